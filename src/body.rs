@@ -1,0 +1,211 @@
+//! Rigid bodies in maximal coordinates (paper §4): x_i = {p_i, q_i}, the position of the centre
+//! of mass and a unit quaternion, with mass m_i and body-space inertia I_i.
+//!
+//! The body frame is the shape's principal frame, so the body-space inertia is diagonal.
+//! The world inverse inertia `R I^-1 R^T` is refreshed whenever the solver moves the
+//! orientation it reads from (once per step, at the preview pose).
+
+use crate::math::{Mat3, Quat, Vec3};
+use crate::shape::Shape;
+
+/// Index of a body in [`crate::world::World::bodies`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct BodyId(pub u32);
+
+impl BodyId {
+    pub fn index(self) -> usize {
+        self.0 as usize
+    }
+}
+
+/// How the solver treats a body.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BodyKind {
+    /// Moved by forces and constraints.
+    Dynamic,
+    /// Never moves; infinite mass.
+    Fixed,
+    /// Moves with its prescribed velocity; infinite mass for constraints.
+    Kinematic,
+}
+
+#[derive(Clone, Debug)]
+pub struct Body {
+    pub name: String,
+    pub kind: BodyKind,
+    pub shape: Shape,
+    pub mass: f32,
+    /// Principal moments of inertia in body space.
+    pub inertia: Vec3,
+    pub position: Vec3,
+    pub orientation: Quat,
+    pub linear_velocity: Vec3,
+    pub angular_velocity: Vec3,
+    /// External force applied every step until changed (N), on top of gravity.
+    pub external_force: Vec3,
+    // --- Derived solver data (kept current by the solver) ---
+    pub(crate) inverse_mass: f32,
+    pub(crate) inverse_inertia_body: Vec3,
+    pub(crate) inverse_inertia_world: Mat3,
+    /// Preview coordinates x* of the current step (paper §4).
+    pub(crate) preview_position: Vec3,
+    pub(crate) preview_orientation: Quat,
+}
+
+impl Body {
+    /// A body with the given shape and mass (ignored unless dynamic), at rest at `position`.
+    pub fn new(name: impl Into<String>, kind: BodyKind, shape: Shape, mass: f32) -> Self {
+        let inertia = shape.principal_inertia(mass);
+        let dynamic = kind == BodyKind::Dynamic;
+        let mut body = Body {
+            name: name.into(),
+            kind,
+            shape,
+            mass,
+            inertia,
+            position: Vec3::ZERO,
+            orientation: Quat::IDENTITY,
+            linear_velocity: Vec3::ZERO,
+            angular_velocity: Vec3::ZERO,
+            external_force: Vec3::ZERO,
+            inverse_mass: if dynamic { 1.0 / mass } else { 0.0 },
+            inverse_inertia_body: if dynamic { inertia.recip() } else { Vec3::ZERO },
+            inverse_inertia_world: Mat3::ZERO,
+            preview_position: Vec3::ZERO,
+            preview_orientation: Quat::IDENTITY,
+        };
+        body.set_pose(Vec3::ZERO, Quat::IDENTITY);
+        body
+    }
+
+    pub fn with_pose(mut self, position: Vec3, orientation: Quat) -> Self {
+        self.set_pose(position, orientation);
+        self
+    }
+
+    /// Teleports the body (current and preview pose).
+    pub fn set_pose(&mut self, position: Vec3, orientation: Quat) {
+        self.position = position;
+        self.orientation = orientation.normalize();
+        self.preview_position = self.position;
+        self.preview_orientation = self.orientation;
+        self.update_world_inertia();
+    }
+
+    /// Changes the mass, scaling the inertia with it.
+    pub fn set_mass(&mut self, mass: f32) {
+        self.mass = mass;
+        self.inertia = self.shape.principal_inertia(mass);
+        if self.kind == BodyKind::Dynamic {
+            self.inverse_mass = 1.0 / mass;
+            self.inverse_inertia_body = self.inertia.recip();
+        }
+        self.update_world_inertia();
+    }
+
+    pub fn is_dynamic(&self) -> bool {
+        self.kind == BodyKind::Dynamic
+    }
+
+    pub fn inverse_mass(&self) -> f32 {
+        self.inverse_mass
+    }
+
+    pub fn inverse_inertia_world(&self) -> Mat3 {
+        self.inverse_inertia_world
+    }
+
+    /// World inertia tensor `R I R^T` at the current orientation.
+    pub fn inertia_world(&self) -> Mat3 {
+        let r = Mat3::from_quat(self.orientation);
+        r * Mat3::from_diagonal(self.inertia) * r.transpose()
+    }
+
+    /// Recomputes `R I^-1 R^T` from the preview orientation.
+    pub(crate) fn update_world_inertia(&mut self) {
+        let r = Mat3::from_quat(self.preview_orientation);
+        self.inverse_inertia_world =
+            r * Mat3::from_diagonal(self.inverse_inertia_body) * r.transpose();
+    }
+
+    pub fn linear_momentum(&self) -> Vec3 {
+        self.mass * self.linear_velocity
+    }
+
+    /// Angular momentum about the world origin: `I w + p x m v`.
+    pub fn angular_momentum(&self) -> Vec3 {
+        self.inertia_world() * self.angular_velocity + self.position.cross(self.linear_momentum())
+    }
+
+    pub fn kinetic_energy(&self) -> f32 {
+        if !self.is_dynamic() {
+            return 0.0;
+        }
+        0.5 * self.mass * self.linear_velocity.length_squared()
+            + 0.5
+                * self
+                    .angular_velocity
+                    .dot(self.inertia_world() * self.angular_velocity)
+    }
+
+    /// Potential energy in a uniform field `gravity` (zero at the origin).
+    pub fn potential_energy(&self, gravity: Vec3) -> f32 {
+        if !self.is_dynamic() {
+            return 0.0;
+        }
+        -self.mass * gravity.dot(self.position)
+    }
+
+    /// World position of a body-space point at the preview pose.
+    #[inline]
+    pub(crate) fn preview_point(&self, local: Vec3) -> Vec3 {
+        self.preview_position + self.preview_orientation * local
+    }
+
+    /// World position of a body-space point at the current pose.
+    pub fn world_point(&self, local: Vec3) -> Vec3 {
+        self.position + self.orientation * local
+    }
+
+    /// Applies a positional impulse `impulse` (kg m) at world offset `r` from the centre of
+    /// mass to the preview pose: dp = P / m, dtheta = I^-1 (r x P).
+    #[inline]
+    pub(crate) fn apply_positional_impulse(&mut self, impulse: Vec3, r: Vec3) {
+        if self.inverse_mass == 0.0 {
+            return;
+        }
+        self.preview_position += impulse * self.inverse_mass;
+        let dtheta = self.inverse_inertia_world * r.cross(impulse);
+        self.preview_orientation = crate::math::rotate_by_small(self.preview_orientation, dtheta);
+    }
+
+    /// Applies an angular impulse `l` (kg m^2 rad) to the preview orientation: dtheta = I^-1 l.
+    #[inline]
+    pub(crate) fn apply_angular_impulse(&mut self, l: Vec3) {
+        if self.inverse_mass == 0.0 {
+            return;
+        }
+        let dtheta = self.inverse_inertia_world * l;
+        self.preview_orientation = crate::math::rotate_by_small(self.preview_orientation, dtheta);
+    }
+
+    /// Generalised inverse mass for a positional correction along unit `n` at offset `r`.
+    #[inline]
+    pub(crate) fn positional_inverse_mass(&self, r: Vec3, n: Vec3) -> f32 {
+        let rn = r.cross(n);
+        self.inverse_mass + rn.dot(self.inverse_inertia_world * rn)
+    }
+
+    /// Generalised inverse mass for a rotation about unit axis `n`.
+    #[inline]
+    pub(crate) fn angular_inverse_mass(&self, n: Vec3) -> f32 {
+        n.dot(self.inverse_inertia_world * n)
+    }
+
+    /// Inverse effective mass block of a point at offset `r`: `1/m I - [r] I^-1 [r]`.
+    #[inline]
+    pub(crate) fn point_inverse_mass_matrix(&self, r: Vec3) -> Mat3 {
+        let rx = crate::math::skew(r);
+        Mat3::from_diagonal(Vec3::splat(self.inverse_mass)) - rx * self.inverse_inertia_world * rx
+    }
+}

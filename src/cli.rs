@@ -1,0 +1,246 @@
+//! Command line: `rodlab` (the main job), `rodlab run SCENE`, `rodlab check SCENE...`.
+//! `rerun::clap::RerunArgs` is flattened into `run`, so `--save`, `--spawn` and `--connect`
+//! behave as in every Rerun example; without any of them a run saves to
+//! `recordings/<scene>.rrd`.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::Context as _;
+use clap::{
+    parser::ValueSource, ArgMatches, Args, CommandFactory, FromArgMatches, Parser, Subcommand,
+};
+
+use crate::constraint::JointFlavour;
+use crate::ragdoll::SpineKind;
+use crate::record::{self, Recorder};
+use crate::scene::Scene;
+use crate::sim::{self, Overrides, RunReport};
+
+#[derive(Debug, Parser)]
+#[command(
+    name = "rodlab",
+    version,
+    about = "Rod constraints for simplified ragdolls (SCA 2013), recorded to Rerun"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// The main job: every scene in a folder -> <out>/<scene>.rrd, plus a residual summary.
+    All {
+        #[arg(long, default_value = "scenes")]
+        scenes: PathBuf,
+        #[arg(long, default_value = "recordings")]
+        out: PathBuf,
+        #[command(flatten)]
+        overrides: OverrideArgs,
+    },
+    /// Runs one scene and records it.
+    Run {
+        scene: PathBuf,
+        #[command(flatten)]
+        overrides: OverrideArgs,
+        #[command(flatten)]
+        rerun: rerun::clap::RerunArgs,
+    },
+    /// Validates scene files without running them.
+    Check {
+        #[arg(required = true)]
+        scenes: Vec<PathBuf>,
+    },
+}
+
+#[derive(Debug, Clone, Args)]
+pub struct OverrideArgs {
+    /// Solver iterations per frame.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    pub iterations: Option<u32>,
+    /// Time step (s).
+    #[arg(long, value_parser = positive_seconds)]
+    pub dt: Option<f32>,
+    /// Frames to simulate.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    pub frames: Option<u32>,
+    /// Spine of every ragdoll: chain3, rod or single.
+    #[arg(long)]
+    pub spine: Option<SpineKind>,
+    /// Ball-and-socket solver: cheap or exact.
+    #[arg(long)]
+    pub joint: Option<JointFlavour>,
+}
+
+fn positive_seconds(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if v > 0.0 && v.is_finite() => Ok(v),
+        Ok(v) => Err(format!("must be a positive number of seconds, got {v}")),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
+impl From<&OverrideArgs> for Overrides {
+    fn from(a: &OverrideArgs) -> Self {
+        Overrides {
+            iterations: a.iterations,
+            dt: a.dt,
+            frames: a.frames,
+            spine: a.spine,
+            joint_flavour: a.joint,
+        }
+    }
+}
+
+pub fn main() -> anyhow::Result<()> {
+    let matches = Cli::command().get_matches();
+    let cli = Cli::from_arg_matches(&matches)?;
+    match cli.command {
+        None => run_all(
+            Path::new("scenes"),
+            Path::new("recordings"),
+            &Overrides::default(),
+        ),
+        Some(Command::All {
+            scenes,
+            out,
+            overrides,
+        }) => run_all(&scenes, &out, &(&overrides).into()),
+        Some(Command::Run {
+            scene,
+            overrides,
+            rerun,
+        }) => {
+            let sub = matches.subcommand_matches("run").expect("run subcommand");
+            run_one(&scene, &(&overrides).into(), &rerun, rerun_sink_given(sub))
+        }
+        Some(Command::Check { scenes }) => check(&scenes),
+    }
+}
+
+/// Whether the user chose where the recording goes (otherwise we save to recordings/).
+fn rerun_sink_given(matches: &ArgMatches) -> bool {
+    ["save", "spawn", "connect", "stdout"]
+        .iter()
+        .any(|id| matches!(matches.value_source(id), Some(ValueSource::CommandLine)))
+}
+
+/// Loads a scene and applies overrides.
+pub fn load_scene(path: &Path, overrides: &Overrides) -> anyhow::Result<Scene> {
+    let mut scene = Scene::load(path)?;
+    overrides.apply(&mut scene.def);
+    Ok(scene)
+}
+
+/// Runs `scene` into a recording at `out`; the recording stays readable if the run fails.
+pub fn record_scene(scene: &Scene, rec: rerun::RecordingStream) -> anyhow::Result<RunReport> {
+    let mut world = scene.build()?;
+    let mut recorder = Recorder::new(rec, &world, scene)?;
+    sim::run(&mut world, scene.def.frames, &mut recorder)
+        .with_context(|| format!("{}: simulation stopped", scene.path.display()))
+}
+
+fn run_one(
+    path: &Path,
+    overrides: &Overrides,
+    rerun_args: &rerun::clap::RerunArgs,
+    sink_given: bool,
+) -> anyhow::Result<()> {
+    let scene = load_scene(path, overrides)?;
+    let name = scene.name();
+    let (rec, _serve_guard) = if sink_given {
+        rerun_args.init_with_blueprint(record::APPLICATION_ID, record::blueprint())?
+    } else {
+        let out = Path::new("recordings").join(format!("{name}.rrd"));
+        eprintln!("recording to {}", out.display());
+        (record::save_to(&out, &name)?, Default::default())
+    };
+    let report = record_scene(&scene, rec)?;
+    print_summary(&name, &scene, &report);
+    Ok(())
+}
+
+fn run_all(scenes_dir: &Path, out_dir: &Path, overrides: &Overrides) -> anyhow::Result<()> {
+    let mut paths: Vec<PathBuf> = std::fs::read_dir(scenes_dir)
+        .with_context(|| format!("cannot list scenes in {}", scenes_dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    paths.sort();
+    anyhow::ensure!(
+        !paths.is_empty(),
+        "no scene files (*.toml) in {}",
+        scenes_dir.display()
+    );
+    let mut failures = Vec::new();
+    for path in &paths {
+        let result = load_scene(path, overrides).and_then(|scene| {
+            let name = scene.name();
+            let out = out_dir.join(format!("{name}.rrd"));
+            let started = std::time::Instant::now();
+            let report = record_scene(&scene, record::save_to(&out, &name)?)?;
+            print_summary(&name, &scene, &report);
+            println!(
+                "  -> {} ({:.1} s)",
+                out.display(),
+                started.elapsed().as_secs_f32()
+            );
+            Ok(())
+        });
+        if let Err(e) = result {
+            eprintln!("error: {e:#}");
+            failures.push(path.display().to_string());
+        }
+    }
+    anyhow::ensure!(
+        failures.is_empty(),
+        "{} scene(s) failed: {}",
+        failures.len(),
+        failures.join(", ")
+    );
+    Ok(())
+}
+
+fn check(paths: &[PathBuf]) -> anyhow::Result<()> {
+    for path in paths {
+        let scene = Scene::load(path)?;
+        let world = scene.build()?;
+        println!(
+            "{}: ok ({} bodies, {} constraints, {} ragdolls, {} frames at dt {} s, {} iterations)",
+            path.display(),
+            world.bodies.len(),
+            world.constraints.len(),
+            world.ragdolls.len(),
+            scene.def.frames,
+            scene.def.dt,
+            scene.def.iterations
+        );
+    }
+    Ok(())
+}
+
+pub fn print_summary(name: &str, scene: &Scene, report: &RunReport) {
+    println!(
+        "{name}: {} frames, dt {:.4} s, {} iterations, energy {:.1} J -> {:.1} J",
+        report.frames,
+        scene.def.dt,
+        scene.def.iterations,
+        report.initial_energy,
+        report.final_energy
+    );
+    println!(
+        "  {:<14} {:<7} {:>14} {:>13} {:>15} {:>14}",
+        "ragdoll", "spine", "mean disl. cm", "max disl. cm", "mean ang. rad", "max ang. rad"
+    );
+    for r in &report.ragdolls {
+        println!(
+            "  {:<14} {:<7} {:>14.4} {:>13.4} {:>15.5} {:>14.5}",
+            r.name,
+            r.spine.to_string(),
+            r.summary.mean_dislocation_cm(),
+            r.summary.dislocation_max,
+            r.summary.mean_angular_rad(),
+            r.summary.angular_max
+        );
+    }
+}

@@ -1,0 +1,85 @@
+//! Angular joint limits in swing-twist form, shared by ball-and-socket joints.
+//!
+//! The joint frame F_i = q_i f_i of each body has its x axis along the twist (or hinge) axis.
+//! With the relative rotation `r = F_a^-1 F_b = swing * twist` (twist about x first):
+//! - swing angle = angle between the world x axes `a_x = F_a x` and `b_x = F_b x`; above
+//!   `swing_max` it is reduced by turning b about `a_x x b_x`;
+//! - twist angle = 2 atan2(r_x, r_w); outside [twist_min, twist_max] it is clamped by turning b
+//!   about its own x axis, which changes the twist and nothing else.
+//!
+//! A hinge (knee, elbow) is the same limit with `swing_max = 0`: the two x axes are held aligned
+//! and the twist angle is the hinge angle.
+
+use super::parts::relative_rotation;
+use crate::body::Body;
+use crate::math::{angle_between, any_perpendicular, twist_angle, Quat, Vec3};
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AngularLimit {
+    /// Cone half-angle (rad) of the twist axis; 0 makes a hinge.
+    pub swing_max: f32,
+    pub twist_min: f32,
+    pub twist_max: f32,
+}
+
+impl AngularLimit {
+    pub fn cone(swing_max: f32, twist_min: f32, twist_max: f32) -> Self {
+        Self {
+            swing_max,
+            twist_min,
+            twist_max,
+        }
+    }
+
+    /// A hinge about the joint frame's x axis with angle range [min, max].
+    pub fn hinge(min: f32, max: f32) -> Self {
+        Self {
+            swing_max: 0.0,
+            twist_min: min,
+            twist_max: max,
+        }
+    }
+
+    /// Current (swing, twist) of the joint frames.
+    pub fn angles(frame_a: Quat, frame_b: Quat) -> (f32, f32) {
+        let swing = angle_between(frame_a * Vec3::X, frame_b * Vec3::X);
+        let twist = twist_angle(frame_a.inverse() * frame_b, Vec3::X);
+        (swing, twist)
+    }
+
+    /// How far (rad) the swing and twist lie outside the limit, summed.
+    pub fn violation(&self, frame_a: Quat, frame_b: Quat) -> f32 {
+        let (swing, twist) = Self::angles(frame_a, frame_b);
+        (swing - self.swing_max).max(0.0) + self.twist_excess(twist).abs()
+    }
+
+    fn twist_excess(&self, twist: f32) -> f32 {
+        if twist > self.twist_max {
+            twist - self.twist_max
+        } else if twist < self.twist_min {
+            twist - self.twist_min
+        } else {
+            0.0
+        }
+    }
+
+    /// Projects the preview orientations onto the limit (hard, relaxation 1).
+    pub fn solve(&self, a: &mut Body, b: &mut Body, local_frame_a: Quat, local_frame_b: Quat) {
+        let ax = a.preview_orientation * local_frame_a * Vec3::X;
+        let bx = b.preview_orientation * local_frame_b * Vec3::X;
+        let swing = angle_between(ax, bx);
+        if swing > self.swing_max {
+            let axis = ax
+                .cross(bx)
+                .try_normalize()
+                .unwrap_or_else(|| any_perpendicular(ax));
+            relative_rotation(a, b, -(swing - self.swing_max) * axis);
+        }
+        let frame_a = a.preview_orientation * local_frame_a;
+        let frame_b = b.preview_orientation * local_frame_b;
+        let excess = self.twist_excess(twist_angle(frame_a.inverse() * frame_b, Vec3::X));
+        if excess != 0.0 {
+            relative_rotation(a, b, -excess * (frame_b * Vec3::X));
+        }
+    }
+}

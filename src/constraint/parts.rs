@@ -1,0 +1,77 @@
+//! Reusable constraint parts (as in Jolt's `ConstraintPart/`): position-level corrections of
+//! two bodies' preview poses that every constraint kind composes.
+//!
+//! A positional impulse `P` (kg m) applied to body i at world offset `r_i` moves its preview
+//! pose by `dp = P / m`, `dtheta = I^-1 (r x P)`. An angular impulse `L` turns it by
+//! `dtheta = I^-1 L`. Equal and opposite impulses on the pair conserve its linear and angular
+//! momentum, which every part below respects.
+
+use crate::body::Body;
+use crate::math::{Mat3, Vec3};
+
+/// Scalar projection: removes `relaxation` times the distance `|d|` along `n = d / |d|`, where
+/// `d = anchor_b - anchor_a`. One row of the point constraint; the cross-coupling of the three
+/// rows through the bodies' rotation is ignored, so repeated application converges slowly.
+#[inline]
+pub fn point_along_error(a: &mut Body, b: &mut Body, ra: Vec3, rb: Vec3, d: Vec3, relaxation: f32) {
+    let distance = d.length();
+    if distance < 1e-9 {
+        return;
+    }
+    let n = d / distance;
+    let w = a.positional_inverse_mass(ra, n) + b.positional_inverse_mass(rb, n);
+    if w <= 0.0 {
+        return;
+    }
+    let impulse = n * (relaxation * distance / w);
+    a.apply_positional_impulse(impulse, ra);
+    b.apply_positional_impulse(-impulse, rb);
+}
+
+/// Block solve: the impulse `P = K^-1 d` with the 3x3 inverse effective mass
+/// `K = K_a + K_b`, `K_i = 1/m_i E - [r_i] I_i^-1 [r_i]`. Removes the linearised error in one go.
+#[inline]
+pub fn point_block(a: &mut Body, b: &mut Body, ra: Vec3, rb: Vec3, d: Vec3, relaxation: f32) {
+    if d.length_squared() < 1e-18 {
+        return;
+    }
+    let k: Mat3 = a.point_inverse_mass_matrix(ra) + b.point_inverse_mass_matrix(rb);
+    let det = k.determinant();
+    if det.abs() < 1e-20 {
+        return; // both bodies immovable
+    }
+    let impulse = k.inverse() * (relaxation * d);
+    a.apply_positional_impulse(impulse, ra);
+    b.apply_positional_impulse(-impulse, rb);
+}
+
+/// Turns b by the world rotation vector `rotation_b` relative to a (a turns the opposite way),
+/// shared by the bodies' inertia about the rotation axis.
+#[inline]
+pub fn relative_rotation(a: &mut Body, b: &mut Body, rotation_b: Vec3) {
+    let angle = rotation_b.length();
+    if angle < 1e-9 {
+        return;
+    }
+    let n = rotation_b / angle;
+    let w = a.angular_inverse_mass(n) + b.angular_inverse_mass(n);
+    if w <= 0.0 {
+        return;
+    }
+    let l = n * (angle / w);
+    a.apply_angular_impulse(-l);
+    b.apply_angular_impulse(l);
+}
+
+/// Two distinct bodies of a slice, mutably.
+#[inline]
+pub fn pair_mut(bodies: &mut [Body], a: usize, b: usize) -> (&mut Body, &mut Body) {
+    assert_ne!(a, b, "a constraint needs two distinct bodies");
+    if a < b {
+        let (lo, hi) = bodies.split_at_mut(b);
+        (&mut lo[a], &mut hi[0])
+    } else {
+        let (lo, hi) = bodies.split_at_mut(a);
+        (&mut hi[0], &mut lo[b])
+    }
+}

@@ -1,0 +1,36 @@
+//! rodlab: the SCA 2013 paper *Rod Constraints for Simplified Ragdolls* as a physics lab.
+//!
+//! ```text
+//! scene file (TOML) -> scene::Scene::build -> World { bodies, constraints, settings }
+//!                                                |
+//!                        solver::step (fixed iterations, no rerun, no allocation)
+//!                                                |
+//!                        metrics (residuals, energies)  ->  sim::run (the loop)
+//!                                                |
+//!                        record (the only rerun user) -> recordings/<scene>.rrd
+//! ```
+//!
+//! Module map:
+//! - [`math`]: glam re-exports, exponential map, swing-twist helpers;
+//! - [`shape`], [`body`]: shapes, mass and inertia, rigid bodies;
+//! - [`constraint`]: one file per constraint kind, dispatched by one `match`;
+//! - [`solver`]: the step, its order written as a numbered list;
+//! - [`world`]: bodies + constraints + settings, failure detection;
+//! - [`ragdoll`]: the reference humanoid builder (spines chain3 | single | rod);
+//! - [`scene`]: TOML scene definitions and their checks;
+//! - [`metrics`]: residual dislocation (cm) and angular violation (rad), energy;
+//! - [`sim`]: the run loop and its observer hook;
+//! - [`record`]: Rerun recording; [`cli`]: the command line.
+
+pub mod body;
+pub mod cli;
+pub mod constraint;
+pub mod math;
+pub mod metrics;
+pub mod ragdoll;
+pub mod record;
+pub mod scene;
+pub mod shape;
+pub mod sim;
+pub mod solver;
+pub mod world;

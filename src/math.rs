@@ -1,0 +1,155 @@
+//! Small math helpers on top of `glam`: rigid transforms, the quaternion exponential map,
+//! and swing-twist decomposition.
+
+pub use glam::{Mat3, Quat, Vec3};
+
+/// A rigid transform: rotation then translation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Iso {
+    pub translation: Vec3,
+    pub rotation: Quat,
+}
+
+impl Iso {
+    pub const IDENTITY: Iso = Iso {
+        translation: Vec3::ZERO,
+        rotation: Quat::IDENTITY,
+    };
+
+    pub fn new(translation: Vec3, rotation: Quat) -> Self {
+        Self {
+            translation,
+            rotation,
+        }
+    }
+
+    pub fn transform_point(&self, p: Vec3) -> Vec3 {
+        self.rotation * p + self.translation
+    }
+
+    pub fn inverse(&self) -> Iso {
+        let rotation = self.rotation.inverse();
+        Iso {
+            translation: -(rotation * self.translation),
+            rotation,
+        }
+    }
+}
+
+impl std::ops::Mul for Iso {
+    type Output = Iso;
+    fn mul(self, rhs: Iso) -> Iso {
+        Iso {
+            translation: self.transform_point(rhs.translation),
+            rotation: (self.rotation * rhs.rotation).normalize(),
+        }
+    }
+}
+
+/// Quaternion of the rotation vector `v` (axis times angle, radians): the exponential map.
+/// Exact for any angle, so integrating `q' = exp(dt w) q` and reading `w` back with
+/// [`rotation_vector`] is lossless; a first-order update would shrink |w| every step.
+pub fn quat_from_rotation_vector(v: Vec3) -> Quat {
+    let angle = v.length();
+    if angle < 1e-6 {
+        // Taylor: sin(a/2)/a ~ 1/2 - a^2/48
+        let s = 0.5 - angle * angle / 48.0;
+        return Quat::from_xyzw(v.x * s, v.y * s, v.z * s, 1.0 - angle * angle / 8.0).normalize();
+    }
+    Quat::from_axis_angle(v / angle, angle)
+}
+
+/// Rotation vector (axis times angle in [-pi, pi]) of `q`: the logarithm map, shortest arc.
+pub fn rotation_vector(q: Quat) -> Vec3 {
+    let q = if q.w < 0.0 { -q } else { q };
+    let xyz = Vec3::new(q.x, q.y, q.z);
+    let s = xyz.length();
+    if s < 1e-7 {
+        return 2.0 * xyz; // angle ~ 2 s, axis xyz/s
+    }
+    let angle = 2.0 * s.atan2(q.w);
+    xyz * (angle / s)
+}
+
+/// Rotates `q` by the small world-space rotation vector `theta` to first order, as
+/// position-based solvers do: `q += 0.5 [theta, 0] q`, then renormalise.
+#[inline]
+pub fn rotate_by_small(q: Quat, theta: Vec3) -> Quat {
+    let dq = Quat::from_xyzw(theta.x, theta.y, theta.z, 0.0) * q;
+    Quat::from_xyzw(
+        q.x + 0.5 * dq.x,
+        q.y + 0.5 * dq.y,
+        q.z + 0.5 * dq.z,
+        q.w + 0.5 * dq.w,
+    )
+    .normalize()
+}
+
+/// Signed twist angle of `q` about the unit local axis `axis` in the swing-twist
+/// decomposition `q = swing * twist`, wrapped to [-pi, pi].
+pub fn twist_angle(q: Quat, axis: Vec3) -> f32 {
+    let projection = Vec3::new(q.x, q.y, q.z).dot(axis);
+    let angle = 2.0 * projection.atan2(q.w);
+    wrap_angle(angle)
+}
+
+/// Wraps an angle to [-pi, pi].
+pub fn wrap_angle(a: f32) -> f32 {
+    use std::f32::consts::{PI, TAU};
+    let mut a = a % TAU;
+    if a > PI {
+        a -= TAU;
+    } else if a < -PI {
+        a += TAU;
+    }
+    a
+}
+
+/// Angle between two unit vectors, robust near 0 and pi (atan2 of |a x b| and a.b).
+pub fn angle_between(a: Vec3, b: Vec3) -> f32 {
+    a.cross(b).length().atan2(a.dot(b))
+}
+
+/// A unit vector perpendicular to the unit vector `v`.
+pub fn any_perpendicular(v: Vec3) -> Vec3 {
+    v.any_orthonormal_vector()
+}
+
+/// Skew-symmetric cross-product matrix: `skew(a) * b = a x b`.
+pub fn skew(a: Vec3) -> Mat3 {
+    Mat3::from_cols(
+        Vec3::new(0.0, a.z, -a.y),
+        Vec3::new(-a.z, 0.0, a.x),
+        Vec3::new(a.y, -a.x, 0.0),
+    )
+}
+
+/// Parses a rotation given as a rotation vector in degrees.
+pub fn quat_from_degrees(rotation_vector_deg: [f32; 3]) -> Quat {
+    quat_from_rotation_vector(Vec3::from(rotation_vector_deg) * std::f32::consts::PI / 180.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn exp_log_round_trip() {
+        for v in [
+            Vec3::new(0.3, -0.2, 1.1),
+            Vec3::new(1e-8, 0.0, 2e-8),
+            Vec3::new(0.0, 3.0, 0.0),
+        ] {
+            let back = rotation_vector(quat_from_rotation_vector(v));
+            assert!((back - v).length() < 1e-5, "{v} -> {back}");
+        }
+    }
+
+    #[test]
+    fn twist_of_pure_twist() {
+        let q = Quat::from_rotation_x(0.7);
+        assert!((twist_angle(q, Vec3::X) - 0.7).abs() < 1e-6);
+        let swing_then_twist = Quat::from_rotation_y(0.4) * Quat::from_rotation_x(-0.5);
+        assert!((twist_angle(swing_then_twist, Vec3::X) + 0.5).abs() < 1e-5);
+    }
+}

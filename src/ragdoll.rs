@@ -1,0 +1,531 @@
+//! The reference humanoid of `shared/humanoid.md` (1.80 m, 75 kg), built into a [`World`].
+//!
+//! One builder serves scenes, tests and benchmarks. It starts from any pose: a root transform
+//! applied to the standing reference pose, plus per-joint rotations of each child subtree about
+//! its joint centre (in the parent's reference frame), applied parent first.
+//!
+//! Joint limits and anchors are defined on the reference pose (anatomical zero); angular
+//! springs, when asked for, rest at the starting pose (instantiated at the transition, §6).
+//!
+//! Spines:
+//! - `chain3`: pelvis - lower spine - upper spine - chest, three ball-and-socket joints;
+//! - `single`: pelvis - chest, one ball-and-socket at the lumbosacral joint with the three
+//!   spine joints' ranges added up (swing 75 deg, twist +-45 deg);
+//! - `rod`: pelvis - chest joined by one rod constraint (paper §5; next issue).
+//!
+//! With `single` and `rod` the removed spine bodies' 12.24 kg are shared equally between
+//! pelvis and chest, so the total stays 75 kg.
+
+use std::f32::consts::FRAC_PI_2;
+use std::ops::Range;
+
+use serde::Deserialize;
+
+use crate::body::{Body, BodyId, BodyKind};
+use crate::constraint::{AngularLimit, BallSocket, Constraint, JointFlavour};
+use crate::math::{Iso, Quat, Vec3};
+use crate::shape::{Axis, Shape};
+use crate::world::World;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum SpineKind {
+    #[default]
+    Chain3,
+    Rod,
+    Single,
+}
+
+impl std::str::FromStr for SpineKind {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "chain3" => Ok(Self::Chain3),
+            "rod" => Ok(Self::Rod),
+            "single" => Ok(Self::Single),
+            _ => Err(format!(
+                "unknown spine \"{s}\", expected one of chain3, rod, single"
+            )),
+        }
+    }
+}
+
+impl std::fmt::Display for SpineKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            SpineKind::Chain3 => "chain3",
+            SpineKind::Rod => "rod",
+            SpineKind::Single => "single",
+        })
+    }
+}
+
+/// What to build.
+#[derive(Clone, Debug)]
+pub struct HumanoidSpec {
+    pub name: String,
+    pub spine: SpineKind,
+    pub joint_flavour: JointFlavour,
+    /// Applied to the whole standing reference pose.
+    pub root: Iso,
+    /// Joint name -> rotation of the child subtree about the joint centre.
+    pub joint_rotations: Vec<(String, Quat)>,
+    /// Relaxation of the spine joints' angular springs (None: no spring).
+    pub spine_spring: Option<f32>,
+    /// Relaxation of the other joints' angular springs (None: no spring).
+    pub limb_spring: Option<f32>,
+    /// Parts made fixed (e.g. "pelvis").
+    pub fixed: Vec<String>,
+}
+
+impl HumanoidSpec {
+    pub fn new(name: impl Into<String>, spine: SpineKind) -> Self {
+        HumanoidSpec {
+            name: name.into(),
+            spine,
+            joint_flavour: JointFlavour::Exact,
+            root: Iso::IDENTITY,
+            joint_rotations: Vec::new(),
+            spine_spring: None,
+            limb_spring: None,
+            fixed: Vec::new(),
+        }
+    }
+}
+
+/// A built ragdoll: which bodies and constraints of the world are its own.
+#[derive(Clone, Debug)]
+pub struct Ragdoll {
+    pub name: String,
+    pub spine: SpineKind,
+    pub bodies: Range<usize>,
+    pub constraints: Range<usize>,
+}
+
+impl Ragdoll {
+    pub fn body_ids(&self) -> impl Iterator<Item = BodyId> + '_ {
+        self.bodies.clone().map(|i| BodyId(i as u32))
+    }
+
+    /// The body of part `part` (e.g. "chest"), if this ragdoll has it.
+    pub fn part(&self, world: &World, part: &str) -> Option<BodyId> {
+        let full = format!("{}/{part}", self.name);
+        self.body_ids().find(|&id| world.body(id).name == full)
+    }
+}
+
+struct Part {
+    name: &'static str,
+    axis: Axis,
+    half_height: f32,
+    radius: f32,
+    centre: [f32; 2],
+    mass: f32,
+}
+
+const fn part(
+    name: &'static str,
+    axis: Axis,
+    half_height: f32,
+    radius: f32,
+    centre: [f32; 2],
+    mass: f32,
+) -> Part {
+    Part {
+        name,
+        axis,
+        half_height,
+        radius,
+        centre,
+        mass,
+    }
+}
+
+/// humanoid.md, bodies with the 3-joint spine. Parent parts come before their children.
+const PARTS: [Part; 13] = [
+    part("pelvis", Axis::X, 0.070, 0.100, [0.0, 1.000], 8.38),
+    part("lower_spine", Axis::X, 0.090, 0.055, [0.0, 1.1125], 6.12),
+    part("upper_spine", Axis::X, 0.090, 0.055, [0.0, 1.2175], 6.12),
+    part("chest", Axis::X, 0.070, 0.120, [0.0, 1.385], 11.97),
+    part("head", Axis::Y, 0.040, 0.100, [0.0, 1.660], 5.20),
+    part("upper_arm_l", Axis::Y, 0.105, 0.045, [0.22, 1.290], 2.03),
+    part("upper_arm_r", Axis::Y, 0.105, 0.045, [-0.22, 1.290], 2.03),
+    part("forearm_l", Axis::Y, 0.180, 0.040, [0.22, 0.920], 1.67),
+    part("forearm_r", Axis::Y, 0.180, 0.040, [-0.22, 0.920], 1.67),
+    part("thigh_l", Axis::Y, 0.150, 0.070, [0.09, 0.730], 10.62),
+    part("thigh_r", Axis::Y, 0.150, 0.070, [-0.09, 0.730], 10.62),
+    part("shank_l", Axis::Y, 0.205, 0.050, [0.09, 0.255], 4.28),
+    part("shank_r", Axis::Y, 0.205, 0.050, [-0.09, 0.255], 4.28),
+];
+
+/// Twist or hinge axis of a joint frame in the reference pose.
+#[derive(Clone, Copy)]
+enum FrameAxis {
+    Up,
+    Down,
+    /// +x (left): positive hinge angle swings the child backward (knee flexion).
+    Left,
+    /// -x: positive hinge angle swings the child forward (elbow flexion).
+    Right,
+}
+
+impl FrameAxis {
+    fn rotation(self) -> Quat {
+        match self {
+            FrameAxis::Up => Quat::from_rotation_z(FRAC_PI_2),
+            FrameAxis::Down => Quat::from_rotation_z(-FRAC_PI_2),
+            FrameAxis::Left => Quat::IDENTITY,
+            FrameAxis::Right => Quat::from_rotation_y(std::f32::consts::PI),
+        }
+    }
+}
+
+struct JointDef {
+    name: &'static str,
+    parent: &'static str,
+    child: &'static str,
+    centre: [f32; 2],
+    axis: FrameAxis,
+    /// Swing cone half-angle and symmetric twist range (deg), or hinge range (deg).
+    limit: LimitDef,
+    spine: bool,
+}
+
+#[derive(Clone, Copy)]
+enum LimitDef {
+    Cone { swing: f32, twist: f32 },
+    Hinge { min: f32, max: f32 },
+}
+
+const fn joint(
+    name: &'static str,
+    parent: &'static str,
+    child: &'static str,
+    centre: [f32; 2],
+    axis: FrameAxis,
+    limit: LimitDef,
+    spine: bool,
+) -> JointDef {
+    JointDef {
+        name,
+        parent,
+        child,
+        centre,
+        axis,
+        limit,
+        spine,
+    }
+}
+
+const SPINE_CONE: LimitDef = LimitDef::Cone {
+    swing: 25.0,
+    twist: 15.0,
+};
+
+/// humanoid.md joints (chain3 spine first; `single`/`rod` replace the first three).
+const CHAIN3_SPINE: [JointDef; 3] = [
+    joint(
+        "lumbosacral",
+        "pelvis",
+        "lower_spine",
+        [0.0, 1.060],
+        FrameAxis::Up,
+        SPINE_CONE,
+        true,
+    ),
+    joint(
+        "thoracolumbar",
+        "lower_spine",
+        "upper_spine",
+        [0.0, 1.165],
+        FrameAxis::Up,
+        SPINE_CONE,
+        true,
+    ),
+    joint(
+        "mid_thoracic",
+        "upper_spine",
+        "chest",
+        [0.0, 1.270],
+        FrameAxis::Up,
+        SPINE_CONE,
+        true,
+    ),
+];
+const SINGLE_SPINE: JointDef = joint(
+    "lumbosacral",
+    "pelvis",
+    "chest",
+    [0.0, 1.060],
+    FrameAxis::Up,
+    LimitDef::Cone {
+        swing: 75.0,
+        twist: 45.0,
+    },
+    true,
+);
+const LIMBS: [JointDef; 9] = [
+    joint(
+        "neck",
+        "chest",
+        "head",
+        [0.0, 1.520],
+        FrameAxis::Up,
+        LimitDef::Cone {
+            swing: 45.0,
+            twist: 45.0,
+        },
+        false,
+    ),
+    joint(
+        "shoulder_l",
+        "chest",
+        "upper_arm_l",
+        [0.22, 1.440],
+        FrameAxis::Down,
+        LimitDef::Cone {
+            swing: 90.0,
+            twist: 60.0,
+        },
+        false,
+    ),
+    joint(
+        "shoulder_r",
+        "chest",
+        "upper_arm_r",
+        [-0.22, 1.440],
+        FrameAxis::Down,
+        LimitDef::Cone {
+            swing: 90.0,
+            twist: 60.0,
+        },
+        false,
+    ),
+    joint(
+        "elbow_l",
+        "upper_arm_l",
+        "forearm_l",
+        [0.22, 1.140],
+        FrameAxis::Right,
+        LimitDef::Hinge {
+            min: 0.0,
+            max: 145.0,
+        },
+        false,
+    ),
+    joint(
+        "elbow_r",
+        "upper_arm_r",
+        "forearm_r",
+        [-0.22, 1.140],
+        FrameAxis::Right,
+        LimitDef::Hinge {
+            min: 0.0,
+            max: 145.0,
+        },
+        false,
+    ),
+    joint(
+        "hip_l",
+        "pelvis",
+        "thigh_l",
+        [0.09, 0.950],
+        FrameAxis::Down,
+        LimitDef::Cone {
+            swing: 70.0,
+            twist: 30.0,
+        },
+        false,
+    ),
+    joint(
+        "hip_r",
+        "pelvis",
+        "thigh_r",
+        [-0.09, 0.950],
+        FrameAxis::Down,
+        LimitDef::Cone {
+            swing: 70.0,
+            twist: 30.0,
+        },
+        false,
+    ),
+    joint(
+        "knee_l",
+        "thigh_l",
+        "shank_l",
+        [0.09, 0.510],
+        FrameAxis::Left,
+        LimitDef::Hinge {
+            min: 0.0,
+            max: 140.0,
+        },
+        false,
+    ),
+    joint(
+        "knee_r",
+        "thigh_r",
+        "shank_r",
+        [-0.09, 0.510],
+        FrameAxis::Left,
+        LimitDef::Hinge {
+            min: 0.0,
+            max: 140.0,
+        },
+        false,
+    ),
+];
+
+/// Names of the joints a pose may rotate for this spine.
+pub fn joint_names(spine: SpineKind) -> Vec<&'static str> {
+    joint_defs(spine).map(|j| j.name).collect()
+}
+
+fn joint_defs(spine: SpineKind) -> impl Iterator<Item = &'static JointDef> {
+    let spine_joints: &'static [JointDef] = match spine {
+        SpineKind::Chain3 => &CHAIN3_SPINE,
+        SpineKind::Single | SpineKind::Rod => std::slice::from_ref(&SINGLE_SPINE),
+    };
+    spine_joints.iter().chain(LIMBS.iter())
+}
+
+fn has_part(spine: SpineKind, name: &str) -> bool {
+    spine == SpineKind::Chain3 || !matches!(name, "lower_spine" | "upper_spine")
+}
+
+/// Part names for this spine.
+pub fn part_names(spine: SpineKind) -> Vec<&'static str> {
+    PARTS
+        .iter()
+        .map(|p| p.name)
+        .filter(|n| has_part(spine, n))
+        .collect()
+}
+
+fn v2(c: [f32; 2]) -> Vec3 {
+    Vec3::new(c[0], c[1], 0.0)
+}
+
+/// Builds the humanoid into `world`. Errors name the unknown joint or part.
+pub fn build_humanoid(world: &mut World, spec: &HumanoidSpec) -> Result<Ragdoll, String> {
+    if spec.spine == SpineKind::Rod {
+        return Err("spine \"rod\" needs the rod constraint, which is not built yet".into());
+    }
+    let spine = spec.spine;
+    let known_joints = joint_names(spine);
+    for (joint, _) in &spec.joint_rotations {
+        if !known_joints.contains(&joint.as_str()) {
+            return Err(format!(
+                "unknown joint \"{joint}\" for spine {spine}, expected one of {}",
+                known_joints.join(", ")
+            ));
+        }
+    }
+    let parts: Vec<&Part> = PARTS.iter().filter(|p| has_part(spine, p.name)).collect();
+    for fixed in &spec.fixed {
+        if !parts.iter().any(|p| p.name == fixed) {
+            let names: Vec<_> = parts.iter().map(|p| p.name).collect();
+            return Err(format!(
+                "unknown part \"{fixed}\", expected one of {}",
+                names.join(", ")
+            ));
+        }
+    }
+    let index_of = |name: &str| {
+        parts
+            .iter()
+            .position(|p| p.name == name)
+            .expect("joint tables name known parts")
+    };
+
+    // Forward kinematics from the reference pose (all parts axis-aligned).
+    let reference: Vec<Iso> = parts
+        .iter()
+        .map(|p| Iso::new(v2(p.centre), Quat::IDENTITY))
+        .collect();
+    let mut posed = reference.clone();
+    posed[0] = spec.root * reference[0];
+    for def in joint_defs(spine) {
+        let (parent, child) = (index_of(def.parent), index_of(def.child));
+        let rotation = spec
+            .joint_rotations
+            .iter()
+            .find(|(n, _)| n == def.name)
+            .map_or(Quat::IDENTITY, |(_, q)| *q);
+        let centre = v2(def.centre);
+        let about_joint = Iso::new(centre, rotation) * Iso::new(-centre, Quat::IDENTITY);
+        posed[child] = posed[parent] * reference[parent].inverse() * about_joint * reference[child];
+    }
+
+    let first_body = world.bodies.len();
+    let extra_mass = if spine == SpineKind::Chain3 {
+        0.0
+    } else {
+        0.5 * (6.12 + 6.12)
+    };
+    for (p, pose) in parts.iter().zip(&posed) {
+        let kind = if spec.fixed.iter().any(|f| f == p.name) {
+            BodyKind::Fixed
+        } else {
+            BodyKind::Dynamic
+        };
+        let mass = p.mass
+            + if matches!(p.name, "pelvis" | "chest") {
+                extra_mass
+            } else {
+                0.0
+            };
+        let shape = Shape::Capsule {
+            half_height: p.half_height,
+            radius: p.radius,
+            axis: p.axis,
+        };
+        world.add_body(
+            Body::new(format!("{}/{}", spec.name, p.name), kind, shape, mass)
+                .with_pose(pose.translation, pose.rotation),
+        );
+    }
+
+    let first_constraint = world.constraints.len();
+    for def in joint_defs(spine) {
+        let (parent, child) = (index_of(def.parent), index_of(def.child));
+        let centre = v2(def.centre);
+        let frame = def.axis.rotation();
+        let limit = match def.limit {
+            LimitDef::Cone { swing, twist } => {
+                AngularLimit::cone(swing.to_radians(), -twist.to_radians(), twist.to_radians())
+            }
+            LimitDef::Hinge { min, max } => AngularLimit::hinge(min.to_radians(), max.to_radians()),
+        };
+        let mut joint = BallSocket {
+            name: format!("{}/{}", spec.name, def.name),
+            body_a: BodyId((first_body + parent) as u32),
+            body_b: BodyId((first_body + child) as u32),
+            local_anchor_a: centre - v2(parts[parent].centre),
+            local_anchor_b: centre - v2(parts[child].centre),
+            local_frame_a: frame,
+            local_frame_b: frame,
+            flavour: spec.joint_flavour,
+            limit: Some(limit),
+            spring: None,
+            collide_connected: false,
+        };
+        let spring = if def.spine {
+            spec.spine_spring
+        } else {
+            spec.limb_spring
+        };
+        if let Some(relaxation) = spring {
+            joint = joint.with_spring(&world.bodies, relaxation);
+        }
+        world.constraints.push(Constraint::BallSocket(joint));
+    }
+
+    let ragdoll = Ragdoll {
+        name: spec.name.clone(),
+        spine,
+        bodies: first_body..world.bodies.len(),
+        constraints: first_constraint..world.constraints.len(),
+    };
+    world.ragdolls.push(ragdoll.clone());
+    Ok(ragdoll)
+}

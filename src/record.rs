@@ -1,0 +1,409 @@
+//! Recording to Rerun: the only module that uses `rerun`.
+//!
+//! Entity paths (documented in the README):
+//! - `world/<group>/capsules|spheres|boxes`: one batched archetype per group (a ragdoll, or
+//!   `props` for free bodies); shapes logged once as static data, per-instance translations and
+//!   quaternions every frame;
+//! - `world/<group>/joints`: both world anchors of every joint (Points3D, 2 per joint);
+//! - `metrics/dislocation_cm/<ragdoll>`, `metrics/angular_rad/<ragdoll>`: residual scalars, one
+//!   plot per measure with one series per ragdoll so spines compare in one plot;
+//! - `metrics/energy/{kinetic,potential,total}`: energy (J);
+//! - `scene`: the scene file (static), `failure`: why a run stopped early, if it did.
+//!
+//! Timelines: `frame` (sequence, 0 = initial state) and `sim_time` (seconds).
+
+use std::path::Path;
+
+use rerun::blueprint::{
+    Blueprint, ContainerLike, Horizontal, Spatial3DView, Tabs, TextDocumentView, TimeSeriesView,
+    Vertical,
+};
+use rerun::RecordingStream;
+
+use crate::body::BodyId;
+use crate::constraint::Constraint;
+use crate::math::{Quat, Vec3};
+use crate::metrics::FrameMetrics;
+use crate::ragdoll::SpineKind;
+use crate::scene::{RecordDef, Scene};
+use crate::shape::Shape;
+use crate::sim::Observer;
+use crate::world::{SimulationError, World};
+
+/// Application id of every rodlab recording.
+pub const APPLICATION_ID: &str = "rodlab";
+
+/// Flush the file sink this often, so a run cut short leaves a readable recording.
+const FLUSH_EVERY_FRAMES: u64 = 30;
+
+/// The default layout: the 3D scene beside the residual and energy plots.
+pub fn blueprint() -> Blueprint {
+    let plots = Vertical::new([
+        ContainerLike::from(
+            TimeSeriesView::new("Dislocation (cm)").with_origin("metrics/dislocation_cm"),
+        ),
+        ContainerLike::from(
+            TimeSeriesView::new("Angular violation (rad)").with_origin("metrics/angular_rad"),
+        ),
+        ContainerLike::from(TimeSeriesView::new("Energy (J)").with_origin("metrics/energy")),
+    ]);
+    let left = Tabs::new([
+        ContainerLike::from(Spatial3DView::new("Scene").with_origin("world")),
+        ContainerLike::from(TextDocumentView::new("Scene file").with_origin("scene")),
+    ]);
+    Blueprint::new(
+        Horizontal::new([ContainerLike::from(left), ContainerLike::from(plots)])
+            .with_column_shares([0.6, 0.4]),
+    )
+    .with_auto_views(false)
+}
+
+/// Opens a recording that writes to `path` (creating its folder), with the default blueprint.
+pub fn save_to(path: &Path, recording_name: &str) -> anyhow::Result<RecordingStream> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)?;
+    }
+    let rec = rerun::RecordingStreamBuilder::new(APPLICATION_ID)
+        .recording_name(recording_name)
+        .with_blueprint(blueprint())
+        .save(path)?;
+    Ok(rec)
+}
+
+/// Which bodies one batched entity draws, and how.
+struct BodyBatch {
+    entity: String,
+    bodies: Vec<BodyId>,
+    /// Capsules: body-space offset of the first cap centre and rotation taking +Z to the axis.
+    local_offsets: Vec<(Vec3, Quat)>,
+    translations: Vec<[f32; 3]>,
+    rotations: Vec<rerun::Quaternion>,
+}
+
+/// Streams a world into a Rerun recording; plugs into [`crate::sim::run`] as its observer.
+pub struct Recorder {
+    rec: RecordingStream,
+    options: RecordDef,
+    batches: Vec<BodyBatch>,
+    /// Per joint group: entity and constraint indices.
+    joint_groups: Vec<(String, Vec<usize>)>,
+    anchor_buffer: Vec<[f32; 3]>,
+    metric_paths: Vec<(String, String)>,
+}
+
+fn group_of(world: &World, body: BodyId) -> String {
+    world
+        .ragdolls
+        .iter()
+        .find(|r| r.bodies.contains(&body.index()))
+        .map_or_else(|| "props".to_string(), |r| r.name.clone())
+}
+
+fn spine_color(spine: SpineKind) -> rerun::Color {
+    // Fig. 8 colours: three-joint spine blue, rod red; single joint green.
+    match spine {
+        SpineKind::Chain3 => rerun::Color::from_rgb(60, 110, 220),
+        SpineKind::Rod => rerun::Color::from_rgb(220, 60, 50),
+        SpineKind::Single => rerun::Color::from_rgb(60, 170, 90),
+    }
+}
+
+impl Recorder {
+    pub fn new(rec: RecordingStream, world: &World, scene: &Scene) -> anyhow::Result<Self> {
+        rec.set_log_time_enabled(false);
+        let mut batches: Vec<BodyBatch> = Vec::new();
+        for (i, body) in world.bodies.iter().enumerate() {
+            let id = BodyId(i as u32);
+            let kind = match body.shape {
+                Shape::Capsule { .. } => "capsules",
+                Shape::Sphere { .. } => "spheres",
+                Shape::Cuboid { .. } => "boxes",
+            };
+            let entity = format!("world/{}/{kind}", group_of(world, id));
+            let offset = match body.shape {
+                Shape::Capsule {
+                    half_height, axis, ..
+                } => (
+                    -half_height * axis.unit(),
+                    Quat::from_rotation_arc(Vec3::Z, axis.unit()),
+                ),
+                _ => (Vec3::ZERO, Quat::IDENTITY),
+            };
+            match batches.iter_mut().find(|b| b.entity == entity) {
+                Some(batch) => {
+                    batch.bodies.push(id);
+                    batch.local_offsets.push(offset);
+                }
+                None => batches.push(BodyBatch {
+                    entity,
+                    bodies: vec![id],
+                    local_offsets: vec![offset],
+                    translations: Vec::new(),
+                    rotations: Vec::new(),
+                }),
+            }
+        }
+        let mut joint_groups: Vec<(String, Vec<usize>)> = Vec::new();
+        for (i, c) in world.constraints.iter().enumerate() {
+            if matches!(c, Constraint::BallSocket(_)) {
+                let entity = format!("world/{}/joints", group_of(world, c.bodies().0));
+                match joint_groups.iter_mut().find(|(e, _)| *e == entity) {
+                    Some((_, list)) => list.push(i),
+                    None => joint_groups.push((entity, vec![i])),
+                }
+            }
+        }
+        let metric_paths = world
+            .ragdolls
+            .iter()
+            .map(|r| {
+                (
+                    format!("metrics/dislocation_cm/{}", r.name),
+                    format!("metrics/angular_rad/{}", r.name),
+                )
+            })
+            .collect();
+        let recorder = Recorder {
+            rec,
+            options: scene.def.record.clone(),
+            batches,
+            joint_groups,
+            anchor_buffer: Vec::new(),
+            metric_paths,
+        };
+        recorder.log_static(world, scene)?;
+        Ok(recorder)
+    }
+
+    pub fn stream(&self) -> &RecordingStream {
+        &self.rec
+    }
+
+    fn log_static(&self, world: &World, scene: &Scene) -> anyhow::Result<()> {
+        let rec = &self.rec;
+        rec.log_static("world", &rerun::ViewCoordinates::RIGHT_HAND_Y_UP())?;
+        let text = format!(
+            "# {}\n\n`{}`\n\n```toml\n{}\n```\n",
+            scene.name(),
+            scene.path.display(),
+            scene.text
+        );
+        rec.log_static("scene", &rerun::TextDocument::from_markdown(text))?;
+        // Ground grid reference: a thin floor outline at y = 0.
+        rec.log_static(
+            "world/floor",
+            &rerun::Boxes3D::from_centers_and_half_sizes([[0.0, -0.005, 0.0]], [[3.0, 0.005, 3.0]])
+                .with_colors([rerun::Color::from_rgb(120, 120, 120)]),
+        )?;
+        for batch in &self.batches {
+            let color_of = |id: BodyId| {
+                let body = world.body(id);
+                let ragdoll = world
+                    .ragdolls
+                    .iter()
+                    .find(|r| r.bodies.contains(&id.index()));
+                match (body.is_dynamic(), ragdoll) {
+                    (false, _) => rerun::Color::from_rgb(110, 110, 110),
+                    (true, Some(r)) => spine_color(r.spine),
+                    (true, None) => rerun::Color::from_rgb(200, 160, 60),
+                }
+            };
+            let colors: Vec<_> = batch.bodies.iter().map(|&id| color_of(id)).collect();
+            let labels: Vec<String> = batch
+                .bodies
+                .iter()
+                .map(|&id| {
+                    world
+                        .body(id)
+                        .name
+                        .rsplit('/')
+                        .next()
+                        .unwrap_or_default()
+                        .to_string()
+                })
+                .collect();
+            match world.body(batch.bodies[0]).shape {
+                Shape::Capsule { .. } => {
+                    let (lengths, radii): (Vec<f32>, Vec<f32>) = batch
+                        .bodies
+                        .iter()
+                        .map(|&id| match world.body(id).shape {
+                            Shape::Capsule {
+                                half_height,
+                                radius,
+                                ..
+                            } => (2.0 * half_height, radius),
+                            _ => unreachable!("batches hold one shape kind"),
+                        })
+                        .unzip();
+                    rec.log_static(
+                        batch.entity.as_str(),
+                        &rerun::Capsules3D::from_lengths_and_radii(lengths, radii)
+                            .with_colors(colors)
+                            .with_labels(labels)
+                            .with_show_labels(false),
+                    )?;
+                }
+                Shape::Sphere { .. } => {
+                    let radii: Vec<f32> = batch
+                        .bodies
+                        .iter()
+                        .map(|&id| world.body(id).shape.bounding_radius())
+                        .collect();
+                    rec.log_static(
+                        batch.entity.as_str(),
+                        &rerun::Ellipsoids3D::from_radii(radii)
+                            .with_colors(colors)
+                            .with_labels(labels)
+                            .with_show_labels(false),
+                    )?;
+                }
+                Shape::Cuboid { .. } => {
+                    let half_sizes: Vec<[f32; 3]> = batch
+                        .bodies
+                        .iter()
+                        .map(|&id| match world.body(id).shape {
+                            Shape::Cuboid { half_extents } => half_extents.to_array(),
+                            _ => unreachable!("batches hold one shape kind"),
+                        })
+                        .collect();
+                    rec.log_static(
+                        batch.entity.as_str(),
+                        &rerun::Boxes3D::from_half_sizes(half_sizes)
+                            .with_colors(colors)
+                            .with_labels(labels)
+                            .with_show_labels(false),
+                    )?;
+                }
+            }
+        }
+        for (r, (dislocation, angular)) in world.ragdolls.iter().zip(&self.metric_paths) {
+            let style = rerun::SeriesLines::new()
+                .with_colors([spine_color(r.spine)])
+                .with_names([r.name.as_str()]);
+            rec.log_static(dislocation.as_str(), &style)?;
+            rec.log_static(angular.as_str(), &style)?;
+        }
+        Ok(())
+    }
+
+    fn log_frame(&mut self, world: &World, metrics: &FrameMetrics) -> anyhow::Result<()> {
+        let rec = &self.rec;
+        rec.set_time_sequence("frame", world.frame as i64);
+        rec.set_duration_secs("sim_time", world.time);
+        if self.options.bodies {
+            for batch in &mut self.batches {
+                batch.translations.clear();
+                batch.rotations.clear();
+                for (&id, &(offset, axis_rotation)) in batch.bodies.iter().zip(&batch.local_offsets)
+                {
+                    let body = world.body(id);
+                    batch
+                        .translations
+                        .push((body.position + body.orientation * offset).to_array());
+                    let q = body.orientation * axis_rotation;
+                    batch
+                        .rotations
+                        .push(rerun::Quaternion::from_xyzw(q.to_array()));
+                }
+                let entity = batch.entity.as_str();
+                match world.body(batch.bodies[0]).shape {
+                    Shape::Capsule { .. } => rec.log(
+                        entity,
+                        &rerun::Capsules3D::update_fields()
+                            .with_translations(batch.translations.iter().copied())
+                            .with_quaternions(batch.rotations.iter().copied()),
+                    )?,
+                    Shape::Sphere { .. } => rec.log(
+                        entity,
+                        &rerun::Ellipsoids3D::update_fields()
+                            .with_centers(batch.translations.iter().copied())
+                            .with_quaternions(batch.rotations.iter().copied()),
+                    )?,
+                    Shape::Cuboid { .. } => rec.log(
+                        entity,
+                        &rerun::Boxes3D::update_fields()
+                            .with_centers(batch.translations.iter().copied())
+                            .with_quaternions(batch.rotations.iter().copied()),
+                    )?,
+                }
+            }
+        }
+        if self.options.joints {
+            for (entity, constraints) in &self.joint_groups {
+                self.anchor_buffer.clear();
+                for &i in constraints {
+                    if let Constraint::BallSocket(joint) = &world.constraints[i] {
+                        let (a, b) =
+                            joint.world_anchors(world.body(joint.body_a), world.body(joint.body_b));
+                        self.anchor_buffer.push(a.to_array());
+                        self.anchor_buffer.push(b.to_array());
+                    }
+                }
+                rec.log(
+                    entity.as_str(),
+                    &rerun::Points3D::new(self.anchor_buffer.iter().copied())
+                        .with_radii([0.012])
+                        .with_colors([rerun::Color::from_rgb(250, 200, 40)]),
+                )?;
+            }
+        }
+        if self.options.residuals {
+            for ((dislocation, angular), residual) in
+                self.metric_paths.iter().zip(&metrics.ragdolls)
+            {
+                rec.log(
+                    dislocation.as_str(),
+                    &rerun::Scalars::single(residual.dislocation_cm as f64),
+                )?;
+                rec.log(
+                    angular.as_str(),
+                    &rerun::Scalars::single(residual.angular_rad as f64),
+                )?;
+            }
+        }
+        if self.options.energy {
+            rec.log(
+                "metrics/energy/kinetic",
+                &rerun::Scalars::single(metrics.kinetic_energy as f64),
+            )?;
+            rec.log(
+                "metrics/energy/potential",
+                &rerun::Scalars::single(metrics.potential_energy as f64),
+            )?;
+            rec.log(
+                "metrics/energy/total",
+                &rerun::Scalars::single(metrics.total_energy() as f64),
+            )?;
+        }
+        if world.frame % FLUSH_EVERY_FRAMES == 0 {
+            rec.flush_blocking()?;
+        }
+        Ok(())
+    }
+}
+
+impl Observer for Recorder {
+    fn begin(&mut self, world: &World, metrics: &FrameMetrics) -> anyhow::Result<()> {
+        self.log_frame(world, metrics)
+    }
+
+    fn frame(&mut self, world: &World, metrics: &FrameMetrics) -> anyhow::Result<()> {
+        self.log_frame(world, metrics)
+    }
+
+    fn failed(&mut self, world: &World, error: &SimulationError) {
+        self.rec.set_time_sequence("frame", world.frame as i64);
+        let text = format!("# Run stopped\n\n{error}\n");
+        let _ = self
+            .rec
+            .log("failure", &rerun::TextDocument::from_markdown(text));
+        let _ = self.rec.flush_blocking();
+    }
+}
+
+impl Drop for Recorder {
+    fn drop(&mut self) {
+        let _ = self.rec.flush_blocking();
+    }
+}

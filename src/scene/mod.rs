@@ -1,0 +1,578 @@
+//! Scene files: what users write (TOML, read with serde, unknown fields refused), checked,
+//! then built into a [`World`]. The definitions here are separate from solver state.
+//!
+//! Every error reads `FILE:LINE: FIELD: message`, for syntax, type and semantic mistakes alike.
+
+mod locate;
+
+use std::path::{Path, PathBuf};
+
+use serde::Deserialize;
+
+use crate::body::{Body, BodyKind};
+use crate::constraint::{AngularLimit, BallSocket, Constraint, JointFlavour};
+use crate::math::{quat_from_degrees, Iso, Quat, Vec3};
+use crate::ragdoll::{build_humanoid, joint_names, HumanoidSpec, SpineKind};
+use crate::shape::{Axis, Shape};
+use crate::world::{Settings, World, DEFAULT_MAX_ANGULAR_SPEED, DEFAULT_MAX_LINEAR_SPEED};
+use locate::Seg;
+
+/// The top level of a scene file.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneDef {
+    /// Recording name; defaults to the file stem.
+    pub name: Option<String>,
+    /// Frame time step (s).
+    #[serde(default = "default_dt")]
+    pub dt: f32,
+    #[serde(default = "default_iterations")]
+    pub iterations: u32,
+    #[serde(default = "default_frames")]
+    pub frames: u32,
+    #[serde(default = "default_gravity")]
+    pub gravity: [f32; 3],
+    /// Default solver flavour of every ball-and-socket joint.
+    #[serde(default)]
+    pub joint_flavour: JointFlavour,
+    /// Explosion bounds (m/s, rad/s).
+    #[serde(default = "default_max_speed")]
+    pub max_speed: f32,
+    #[serde(default = "default_max_angular_speed")]
+    pub max_angular_speed: f32,
+    #[serde(default)]
+    pub record: RecordDef,
+    #[serde(default)]
+    pub ragdoll: Vec<RagdollDef>,
+    #[serde(default)]
+    pub body: Vec<BodyDef>,
+    #[serde(default)]
+    pub joint: Vec<JointDef>,
+}
+
+fn default_dt() -> f32 {
+    1.0 / 60.0
+}
+fn default_iterations() -> u32 {
+    20
+}
+fn default_frames() -> u32 {
+    300
+}
+fn default_gravity() -> [f32; 3] {
+    [0.0, -9.81, 0.0]
+}
+fn default_max_speed() -> f32 {
+    DEFAULT_MAX_LINEAR_SPEED
+}
+fn default_max_angular_speed() -> f32 {
+    DEFAULT_MAX_ANGULAR_SPEED
+}
+fn yes() -> bool {
+    true
+}
+
+/// What the recording holds.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RecordDef {
+    /// Body poses and shapes.
+    #[serde(default = "yes")]
+    pub bodies: bool,
+    /// Joint anchor pairs.
+    #[serde(default = "yes")]
+    pub joints: bool,
+    /// Per-ragdoll residual plots.
+    #[serde(default = "yes")]
+    pub residuals: bool,
+    /// Kinetic, potential and total energy.
+    #[serde(default = "yes")]
+    pub energy: bool,
+}
+
+impl Default for RecordDef {
+    fn default() -> Self {
+        RecordDef {
+            bodies: true,
+            joints: true,
+            residuals: true,
+            energy: true,
+        }
+    }
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RagdollDef {
+    pub name: String,
+    #[serde(default)]
+    pub spine: SpineKind,
+    /// Overrides the scene's joint flavour.
+    pub joint_flavour: Option<JointFlavour>,
+    /// Root translation applied to the standing reference pose (m).
+    #[serde(default)]
+    pub position: [f32; 3],
+    /// Root rotation as a rotation vector (deg).
+    #[serde(default)]
+    pub rotation: [f32; 3],
+    /// Joint name -> rotation vector (deg) of the child about the joint centre.
+    #[serde(default)]
+    pub pose: std::collections::BTreeMap<String, [f32; 3]>,
+    /// Parts held fixed, e.g. ["pelvis"].
+    #[serde(default)]
+    pub fixed: Vec<String>,
+    /// Relaxation in [0, 1] of the spine joints' springs toward the starting pose.
+    pub spine_spring: Option<f32>,
+    /// Relaxation in [0, 1] of the other joints' springs toward the starting pose.
+    pub limb_spring: Option<f32>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum KindDef {
+    #[default]
+    Dynamic,
+    Fixed,
+    Kinematic,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ShapeKind {
+    Sphere,
+    Capsule,
+    Box,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodyDef {
+    pub name: String,
+    #[serde(default)]
+    pub kind: KindDef,
+    pub shape: ShapeKind,
+    /// Sphere and capsule radius (m).
+    pub radius: Option<f32>,
+    /// Capsule half distance between cap centres (m).
+    pub half_height: Option<f32>,
+    /// Capsule axis in body space.
+    pub axis: Option<Axis>,
+    /// Box half extents (m).
+    pub half_extents: Option<[f32; 3]>,
+    /// Mass (kg); give this or `density`.
+    pub mass: Option<f32>,
+    /// Density (kg/m^3); give this or `mass`.
+    pub density: Option<f32>,
+    #[serde(default)]
+    pub position: [f32; 3],
+    /// Rotation vector (deg).
+    #[serde(default)]
+    pub rotation: [f32; 3],
+    #[serde(default)]
+    pub velocity: [f32; 3],
+    #[serde(default)]
+    pub angular_velocity: [f32; 3],
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JointDef {
+    pub name: String,
+    pub a: String,
+    pub b: String,
+    /// World anchor point at the starting pose (m).
+    pub anchor: [f32; 3],
+    /// Twist or hinge axis in world space at the starting pose.
+    #[serde(default = "default_twist_axis")]
+    pub axis: [f32; 3],
+    pub flavour: Option<JointFlavour>,
+    /// Swing cone half-angle (deg).
+    pub swing: Option<f32>,
+    /// Twist range [min, max] (deg).
+    pub twist: Option<[f32; 2]>,
+    /// Hinge range [min, max] (deg) about `axis`; excludes `swing` and `twist`.
+    pub hinge: Option<[f32; 2]>,
+    /// Relaxation in [0, 1] of a spring toward the starting relative orientation.
+    pub spring: Option<f32>,
+}
+
+fn default_twist_axis() -> [f32; 3] {
+    [1.0, 0.0, 0.0]
+}
+
+/// A scene error located in its file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneError {
+    pub file: PathBuf,
+    pub line: usize,
+    pub field: String,
+    pub message: String,
+}
+
+impl std::fmt::Display for SceneError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}:{}: ", self.file.display(), self.line)?;
+        if !self.field.is_empty() {
+            write!(f, "{}: ", self.field)?;
+        }
+        f.write_str(&self.message)
+    }
+}
+
+impl std::error::Error for SceneError {}
+
+/// A parsed and checked scene, with its source text (logged into recordings).
+#[derive(Clone, Debug)]
+pub struct Scene {
+    pub path: PathBuf,
+    pub text: String,
+    pub def: SceneDef,
+}
+
+impl Scene {
+    /// Reads and checks a scene file.
+    pub fn load(path: impl AsRef<Path>) -> anyhow::Result<Scene> {
+        let path = path.as_ref();
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| anyhow::anyhow!("{}: cannot read scene file: {e}", path.display()))?;
+        Ok(Scene::parse(path, &text)?)
+    }
+
+    /// Parses and checks scene text; `path` is used in messages only.
+    pub fn parse(path: impl AsRef<Path>, text: &str) -> Result<Scene, SceneError> {
+        let path = path.as_ref().to_path_buf();
+        let def: SceneDef = toml::from_str(text).map_err(|e| {
+            let span = e.span().unwrap_or(0..0);
+            let field = locate::parse(text)
+                .map(|doc| locate::render(&locate::path_at(doc.get_ref(), &span)));
+            SceneError {
+                file: path.clone(),
+                line: locate::line_of(text, span.start),
+                field: field.unwrap_or_default(),
+                message: tidy_serde_message(e.message()),
+            }
+        })?;
+        let scene = Scene {
+            path,
+            text: text.to_string(),
+            def,
+        };
+        scene
+            .check()
+            .map_err(|(p, message)| scene.error_at(&p, message))?;
+        Ok(scene)
+    }
+
+    /// Name used for the recording: `name`, or the file stem.
+    pub fn name(&self) -> String {
+        self.def.name.clone().unwrap_or_else(|| {
+            self.path
+                .file_stem()
+                .map_or("scene".into(), |s| s.to_string_lossy().into_owned())
+        })
+    }
+
+    fn error_at(&self, path: &[Seg], message: String) -> SceneError {
+        let doc = locate::parse(&self.text).expect("text parsed before");
+        let span = locate::span_of(&doc, path);
+        SceneError {
+            file: self.path.clone(),
+            line: locate::line_of(&self.text, span.start),
+            field: locate::render(path),
+            message,
+        }
+    }
+
+    /// Semantic checks serde cannot express.
+    fn check(&self) -> Result<(), (Vec<Seg>, String)> {
+        let d = &self.def;
+        let key = |k: &str| vec![Seg::Key(k.into())];
+        let at = |list: &str, i: usize, field: &str| {
+            vec![Seg::Key(list.into()), Seg::Index(i), Seg::Key(field.into())]
+        };
+        if !(d.dt > 0.0 && d.dt.is_finite()) {
+            return Err((
+                key("dt"),
+                format!("must be a positive number of seconds, got {}", d.dt),
+            ));
+        }
+        if d.iterations == 0 {
+            return Err((key("iterations"), "must be at least 1".into()));
+        }
+        if d.frames == 0 {
+            return Err((key("frames"), "must be at least 1".into()));
+        }
+        if !(d.max_speed > 0.0) {
+            return Err((key("max_speed"), "must be positive".into()));
+        }
+        if !(d.max_angular_speed > 0.0) {
+            return Err((key("max_angular_speed"), "must be positive".into()));
+        }
+        let mut names: Vec<&str> = Vec::new();
+        for (i, r) in d.ragdoll.iter().enumerate() {
+            check_name(&r.name, &names).map_err(|m| (at("ragdoll", i, "name"), m))?;
+            names.push(&r.name);
+            for (field, value) in [
+                ("spine_spring", r.spine_spring),
+                ("limb_spring", r.limb_spring),
+            ] {
+                check_relaxation(value).map_err(|m| (at("ragdoll", i, field), m))?;
+            }
+            let joints = joint_names(r.spine);
+            for joint in r.pose.keys() {
+                if !joints.contains(&joint.as_str()) {
+                    let mut p = at("ragdoll", i, "pose");
+                    p.push(Seg::Key(joint.clone()));
+                    return Err((
+                        p,
+                        format!(
+                            "unknown joint \"{joint}\" for spine {}, expected one of {}",
+                            r.spine,
+                            joints.join(", ")
+                        ),
+                    ));
+                }
+            }
+            let parts = crate::ragdoll::part_names(r.spine);
+            for part in &r.fixed {
+                if !parts.contains(&part.as_str()) {
+                    return Err((
+                        at("ragdoll", i, "fixed"),
+                        format!(
+                            "unknown part \"{part}\", expected one of {}",
+                            parts.join(", ")
+                        ),
+                    ));
+                }
+            }
+        }
+        let mut body_names: Vec<&str> = Vec::new();
+        for (i, b) in d.body.iter().enumerate() {
+            check_name(&b.name, &body_names).map_err(|m| (at("body", i, "name"), m))?;
+            body_names.push(&b.name);
+            check_body(b).map_err(|(field, m)| (at("body", i, field), m))?;
+        }
+        let mut joint_names_seen: Vec<&str> = Vec::new();
+        for (i, j) in d.joint.iter().enumerate() {
+            check_name(&j.name, &joint_names_seen).map_err(|m| (at("joint", i, "name"), m))?;
+            joint_names_seen.push(&j.name);
+            for (field, name) in [("a", &j.a), ("b", &j.b)] {
+                if !body_names.contains(&name.as_str()) {
+                    return Err((
+                        at("joint", i, field),
+                        format!(
+                            "unknown body \"{name}\", expected one of: {}",
+                            body_names.join(", ")
+                        ),
+                    ));
+                }
+            }
+            if j.a == j.b {
+                return Err((
+                    at("joint", i, "b"),
+                    "a joint needs two different bodies".into(),
+                ));
+            }
+            check_relaxation(j.spring).map_err(|m| (at("joint", i, "spring"), m))?;
+            if Vec3::from(j.axis).length() < 1e-6 {
+                return Err((at("joint", i, "axis"), "must be a non-zero vector".into()));
+            }
+            if j.hinge.is_some() && (j.swing.is_some() || j.twist.is_some()) {
+                return Err((
+                    at("joint", i, "hinge"),
+                    "a hinge excludes swing and twist".into(),
+                ));
+            }
+            if let Some([lo, hi]) = j.twist.or(j.hinge) {
+                if lo > hi {
+                    let f = if j.hinge.is_some() { "hinge" } else { "twist" };
+                    return Err((
+                        at("joint", i, f),
+                        format!("range [{lo}, {hi}] has min above max"),
+                    ));
+                }
+            }
+            if matches!(j.swing, Some(s) if s < 0.0) {
+                return Err((at("joint", i, "swing"), "must not be negative".into()));
+            }
+        }
+        Ok(())
+    }
+
+    /// Builds the world this scene describes.
+    pub fn build(&self) -> Result<World, SceneError> {
+        let d = &self.def;
+        let mut world = World::new(Settings {
+            gravity: Vec3::from(d.gravity),
+            dt: d.dt,
+            iterations: d.iterations,
+            max_linear_speed: d.max_speed,
+            max_angular_speed: d.max_angular_speed,
+        });
+        for (i, r) in d.ragdoll.iter().enumerate() {
+            let spec = HumanoidSpec {
+                name: r.name.clone(),
+                spine: r.spine,
+                joint_flavour: r.joint_flavour.unwrap_or(d.joint_flavour),
+                root: Iso::new(Vec3::from(r.position), quat_from_degrees(r.rotation)),
+                joint_rotations: r
+                    .pose
+                    .iter()
+                    .map(|(k, v)| (k.clone(), quat_from_degrees(*v)))
+                    .collect(),
+                spine_spring: r.spine_spring,
+                limb_spring: r.limb_spring,
+                fixed: r.fixed.clone(),
+            };
+            let path = [
+                Seg::Key("ragdoll".into()),
+                Seg::Index(i),
+                Seg::Key("spine".into()),
+            ];
+            build_humanoid(&mut world, &spec).map_err(|m| self.error_at(&path, m))?;
+        }
+        for b in &d.body {
+            world.add_body(build_body(b));
+        }
+        for j in &d.joint {
+            let a = world.find_body(&j.a).expect("checked");
+            let b = world.find_body(&j.b).expect("checked");
+            let frame = Quat::from_rotation_arc(Vec3::X, Vec3::from(j.axis).normalize());
+            let mut joint = BallSocket::at_world_anchor(
+                &j.name,
+                &world.bodies,
+                a,
+                b,
+                Vec3::from(j.anchor),
+                frame,
+            )
+            .with_flavour(j.flavour.unwrap_or(d.joint_flavour));
+            if let Some([lo, hi]) = j.hinge {
+                joint = joint.with_limit(AngularLimit::hinge(lo.to_radians(), hi.to_radians()));
+            } else if j.swing.is_some() || j.twist.is_some() {
+                let swing = j.swing.unwrap_or(180.0).to_radians();
+                let [lo, hi] = j.twist.unwrap_or([-180.0, 180.0]);
+                joint =
+                    joint.with_limit(AngularLimit::cone(swing, lo.to_radians(), hi.to_radians()));
+            }
+            if let Some(relaxation) = j.spring {
+                joint = joint.with_spring(&world.bodies, relaxation);
+            }
+            world.constraints.push(Constraint::BallSocket(joint));
+        }
+        Ok(world)
+    }
+}
+
+fn check_name(name: &str, seen: &[&str]) -> Result<(), String> {
+    if name.is_empty() || name.contains('/') {
+        return Err(format!(
+            "\"{name}\" is not a valid name (non-empty, no '/')"
+        ));
+    }
+    if seen.contains(&name) {
+        return Err(format!("duplicate name \"{name}\""));
+    }
+    Ok(())
+}
+
+fn check_relaxation(value: Option<f32>) -> Result<(), String> {
+    match value {
+        Some(v) if !(0.0..=1.0).contains(&v) => {
+            Err(format!("relaxation must lie in [0, 1], got {v}"))
+        }
+        _ => Ok(()),
+    }
+}
+
+fn check_body(b: &BodyDef) -> Result<(), (&'static str, String)> {
+    let positive = |field: &'static str, v: Option<f32>| match v {
+        None => Err((
+            field,
+            format!("required for a {:?} shape", b.shape).to_lowercase(),
+        )),
+        Some(x) if !(x > 0.0) => Err((field, format!("must be positive, got {x}"))),
+        Some(_) => Ok(()),
+    };
+    match b.shape {
+        ShapeKind::Sphere => positive("radius", b.radius)?,
+        ShapeKind::Capsule => {
+            positive("radius", b.radius)?;
+            positive("half_height", b.half_height)?;
+        }
+        ShapeKind::Box => match b.half_extents {
+            None => return Err(("half_extents", "required for a box shape".into())),
+            Some(h) if h.iter().any(|&x| !(x > 0.0)) => {
+                return Err(("half_extents", format!("must be positive, got {h:?}")))
+            }
+            Some(_) => {}
+        },
+    }
+    if b.kind == KindDef::Dynamic {
+        match (b.mass, b.density) {
+            (Some(_), Some(_)) => return Err(("density", "give mass or density, not both".into())),
+            (None, None) => {
+                return Err(("mass", "a dynamic body needs a mass or a density".into()))
+            }
+            (Some(m), None) if !(m > 0.0 && m.is_finite()) => {
+                return Err((
+                    "mass",
+                    format!("a dynamic body needs a positive mass, got {m}"),
+                ))
+            }
+            (None, Some(rho)) if !(rho > 0.0 && rho.is_finite()) => {
+                return Err((
+                    "density",
+                    format!("a dynamic body needs a positive density, got {rho}"),
+                ))
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+fn build_body(b: &BodyDef) -> Body {
+    let shape = match b.shape {
+        ShapeKind::Sphere => Shape::Sphere {
+            radius: b.radius.unwrap(),
+        },
+        ShapeKind::Capsule => Shape::Capsule {
+            half_height: b.half_height.unwrap(),
+            radius: b.radius.unwrap(),
+            axis: b.axis.unwrap_or(Axis::Y),
+        },
+        ShapeKind::Box => Shape::Cuboid {
+            half_extents: Vec3::from(b.half_extents.unwrap()),
+        },
+    };
+    let kind = match b.kind {
+        KindDef::Dynamic => BodyKind::Dynamic,
+        KindDef::Fixed => BodyKind::Fixed,
+        KindDef::Kinematic => BodyKind::Kinematic,
+    };
+    let mass = b
+        .mass
+        .unwrap_or_else(|| b.density.unwrap_or(1000.0) * shape.volume());
+    let mut body = Body::new(&b.name, kind, shape, mass)
+        .with_pose(Vec3::from(b.position), quat_from_degrees(b.rotation));
+    if kind != BodyKind::Fixed {
+        body.linear_velocity = Vec3::from(b.velocity);
+        body.angular_velocity = Vec3::from(b.angular_velocity);
+    }
+    body
+}
+
+/// serde's "unknown variant `x`, expected one of `a`, `b`" reads better as
+/// `unknown value "x", expected one of a, b`.
+fn tidy_serde_message(message: &str) -> String {
+    let message = message.trim().replace("unknown variant", "unknown value");
+    let mut out = String::with_capacity(message.len());
+    for (i, part) in message.split('`').enumerate() {
+        if i == 1 || i == 2 {
+            out.push('"'); // quotes around the user's value; the choices stay bare
+        }
+        out.push_str(part);
+    }
+    out
+}

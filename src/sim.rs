@@ -1,0 +1,123 @@
+//! The run loop shared by the CLI, tests and benchmarks: step, measure, hand each frame to an
+//! [`Observer`] (the recorder, a test, or nothing). No Rerun here.
+
+use crate::constraint::JointFlavour;
+use crate::metrics::{FrameMetrics, Summary};
+use crate::ragdoll::SpineKind;
+use crate::scene::SceneDef;
+use crate::world::{SimulationError, World};
+
+/// Receives the world after every frame.
+pub trait Observer {
+    /// Called once before the first step, with the initial state as frame 0.
+    fn begin(&mut self, _world: &World, _metrics: &FrameMetrics) -> anyhow::Result<()> {
+        Ok(())
+    }
+    fn frame(&mut self, world: &World, metrics: &FrameMetrics) -> anyhow::Result<()>;
+    /// Called when the simulation fails, after the last good frame was observed.
+    fn failed(&mut self, _world: &World, _error: &SimulationError) {}
+}
+
+/// An observer that ignores everything.
+pub struct NoObserver;
+
+impl Observer for NoObserver {
+    fn frame(&mut self, _: &World, _: &FrameMetrics) -> anyhow::Result<()> {
+        Ok(())
+    }
+}
+
+impl<F: FnMut(&World, &FrameMetrics)> Observer for F {
+    fn frame(&mut self, world: &World, metrics: &FrameMetrics) -> anyhow::Result<()> {
+        self(world, metrics);
+        Ok(())
+    }
+}
+
+/// Command-line overrides of a scene file.
+#[derive(Clone, Debug, Default)]
+pub struct Overrides {
+    pub iterations: Option<u32>,
+    pub dt: Option<f32>,
+    pub frames: Option<u32>,
+    pub spine: Option<SpineKind>,
+    pub joint_flavour: Option<JointFlavour>,
+}
+
+impl Overrides {
+    pub fn apply(&self, def: &mut SceneDef) {
+        if let Some(v) = self.iterations {
+            def.iterations = v;
+        }
+        if let Some(v) = self.dt {
+            def.dt = v;
+        }
+        if let Some(v) = self.frames {
+            def.frames = v;
+        }
+        if let Some(spine) = self.spine {
+            def.ragdoll.iter_mut().for_each(|r| r.spine = spine);
+        }
+        if let Some(flavour) = self.joint_flavour {
+            def.joint_flavour = flavour;
+            def.ragdoll
+                .iter_mut()
+                .for_each(|r| r.joint_flavour = Some(flavour));
+            def.joint.iter_mut().for_each(|j| j.flavour = Some(flavour));
+        }
+    }
+}
+
+/// Residual statistics of one ragdoll over a run.
+#[derive(Clone, Debug)]
+pub struct RagdollReport {
+    pub name: String,
+    pub spine: SpineKind,
+    pub summary: Summary,
+}
+
+#[derive(Clone, Debug)]
+pub struct RunReport {
+    pub frames: u32,
+    pub ragdolls: Vec<RagdollReport>,
+    pub initial_energy: f32,
+    pub final_energy: f32,
+}
+
+/// Steps `world` for `frames` frames. Residual statistics cover frames 1..=frames.
+pub fn run(
+    world: &mut World,
+    frames: u32,
+    observer: &mut dyn Observer,
+) -> anyhow::Result<RunReport> {
+    let mut metrics = FrameMetrics::default();
+    metrics.measure(world);
+    let initial_energy = metrics.total_energy();
+    let mut ragdolls: Vec<RagdollReport> = world
+        .ragdolls
+        .iter()
+        .map(|r| RagdollReport {
+            name: r.name.clone(),
+            spine: r.spine,
+            summary: Summary::default(),
+        })
+        .collect();
+    observer.begin(world, &metrics)?;
+    for _ in 0..frames {
+        if let Err(error) = world.step() {
+            observer.failed(world, &error);
+            return Err(error.into());
+        }
+        metrics.measure(world);
+        for (report, residual) in ragdolls.iter_mut().zip(&metrics.ragdolls) {
+            report.summary.add(*residual);
+        }
+        observer.frame(world, &metrics)?;
+    }
+    Ok(RunReport {
+        frames,
+        ragdolls,
+        initial_energy,
+        final_energy: metrics.total_energy(),
+    })
+}

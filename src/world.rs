@@ -1,0 +1,192 @@
+//! The world: bodies, constraints, settings and the ragdolls that group them.
+
+use crate::body::{Body, BodyId};
+use crate::constraint::Constraint;
+use crate::math::Vec3;
+use crate::ragdoll::Ragdoll;
+
+/// Simulation settings (from the scene file, overridable on the command line).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Settings {
+    pub gravity: Vec3,
+    /// Frame time step (s).
+    pub dt: f32,
+    /// Solver iterations per frame (paper §8: a fixed number).
+    pub iterations: u32,
+    /// A dynamic body faster than this (m/s) counts as exploded.
+    pub max_linear_speed: f32,
+    /// A dynamic body spinning faster than this (rad/s) counts as exploded.
+    pub max_angular_speed: f32,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            gravity: Vec3::new(0.0, -9.81, 0.0),
+            dt: 1.0 / 60.0,
+            iterations: 20,
+            max_linear_speed: DEFAULT_MAX_LINEAR_SPEED,
+            max_angular_speed: DEFAULT_MAX_ANGULAR_SPEED,
+        }
+    }
+}
+
+/// Default explosion bound on linear speed (m/s): well above anything a falling ragdoll or a
+/// thrown prop reaches in our scenes (a 50 m/s projectile is the fastest).
+pub const DEFAULT_MAX_LINEAR_SPEED: f32 = 250.0;
+/// Default explosion bound on angular speed (rad/s), about 80 turns per second.
+pub const DEFAULT_MAX_ANGULAR_SPEED: f32 = 500.0;
+
+#[derive(Clone, Debug, Default)]
+pub struct World {
+    pub settings: Settings,
+    pub bodies: Vec<Body>,
+    pub constraints: Vec<Constraint>,
+    pub ragdolls: Vec<Ragdoll>,
+    /// Frames stepped so far.
+    pub frame: u64,
+    /// Simulated time (s).
+    pub time: f64,
+}
+
+/// A simulation that produced NaN or exploded.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SimulationError {
+    pub frame: u64,
+    pub body: String,
+    /// The constraint on that body with the largest error, if any.
+    pub constraint: Option<String>,
+    pub reason: String,
+}
+
+impl std::fmt::Display for SimulationError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "frame {}: body \"{}\" {}",
+            self.frame, self.body, self.reason
+        )?;
+        match &self.constraint {
+            Some(c) => write!(f, "; largest error among its constraints: \"{c}\""),
+            None => write!(f, "; it has no constraints"),
+        }
+    }
+}
+
+impl std::error::Error for SimulationError {}
+
+impl World {
+    pub fn new(settings: Settings) -> Self {
+        World {
+            settings,
+            ..Default::default()
+        }
+    }
+
+    pub fn add_body(&mut self, body: Body) -> BodyId {
+        self.bodies.push(body);
+        BodyId(self.bodies.len() as u32 - 1)
+    }
+
+    pub fn add_constraint(&mut self, constraint: impl Into<Constraint>) -> usize {
+        self.constraints.push(constraint.into());
+        self.constraints.len() - 1
+    }
+
+    pub fn body(&self, id: BodyId) -> &Body {
+        &self.bodies[id.index()]
+    }
+
+    pub fn body_mut(&mut self, id: BodyId) -> &mut Body {
+        &mut self.bodies[id.index()]
+    }
+
+    pub fn find_body(&self, name: &str) -> Option<BodyId> {
+        self.bodies
+            .iter()
+            .position(|b| b.name == name)
+            .map(|i| BodyId(i as u32))
+    }
+
+    /// Advances one frame (see [`crate::solver`] for the step order).
+    pub fn step(&mut self) -> Result<(), SimulationError> {
+        crate::solver::step(self)
+    }
+
+    pub fn kinetic_energy(&self) -> f32 {
+        self.bodies.iter().map(Body::kinetic_energy).sum()
+    }
+
+    pub fn potential_energy(&self) -> f32 {
+        self.bodies
+            .iter()
+            .map(|b| b.potential_energy(self.settings.gravity))
+            .sum()
+    }
+
+    /// Step 5 of the solver: NaN, infinity or a speed above the bounds stops the run.
+    pub fn check_health(&self) -> Result<(), SimulationError> {
+        for (index, body) in self
+            .bodies
+            .iter()
+            .enumerate()
+            .filter(|(_, b)| b.is_dynamic())
+        {
+            let finite = body.position.is_finite()
+                && body.orientation.is_finite()
+                && body.linear_velocity.is_finite()
+                && body.angular_velocity.is_finite();
+            let reason = if !finite {
+                "has a non-finite pose or velocity (NaN or infinity)".to_string()
+            } else if body.linear_velocity.length() > self.settings.max_linear_speed {
+                format!(
+                    "exploded: speed {:.1} m/s exceeds the bound {} m/s",
+                    body.linear_velocity.length(),
+                    self.settings.max_linear_speed
+                )
+            } else if body.angular_velocity.length() > self.settings.max_angular_speed {
+                format!(
+                    "exploded: angular speed {:.1} rad/s exceeds the bound {} rad/s",
+                    body.angular_velocity.length(),
+                    self.settings.max_angular_speed
+                )
+            } else {
+                continue;
+            };
+            return Err(SimulationError {
+                frame: self.frame,
+                body: body.name.clone(),
+                constraint: self.worst_constraint_on(BodyId(index as u32)),
+                reason,
+            });
+        }
+        Ok(())
+    }
+
+    /// Name of the constraint on `body` with the largest error (NaN counts as largest).
+    fn worst_constraint_on(&self, body: BodyId) -> Option<String> {
+        let size = |c: &Constraint| {
+            let v = c.violation(&self.bodies);
+            let s = v.dislocation + v.angular;
+            if s.is_nan() {
+                f32::INFINITY
+            } else {
+                s
+            }
+        };
+        self.constraints
+            .iter()
+            .filter(|c| {
+                let (a, b) = c.bodies();
+                a == body || b == body
+            })
+            .max_by(|x, y| size(x).total_cmp(&size(y)))
+            .map(|c| c.name().to_string())
+    }
+}
+
+impl From<crate::constraint::BallSocket> for Constraint {
+    fn from(joint: crate::constraint::BallSocket) -> Self {
+        Constraint::BallSocket(joint)
+    }
+}

@@ -1,0 +1,155 @@
+//! Recordings: a written file decodes with Rerun's own decoder and holds body poses for every
+//! frame; a run that explodes stops with an error naming the body, the constraint and the frame,
+//! and its recording up to that frame stays readable.
+
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+
+use rerun::external::re_log_encoding::DecoderApp;
+use rerun::log::{Chunk, LogMsg};
+use rodlab::cli::record_scene;
+use rodlab::record;
+use rodlab::scene::Scene;
+use rodlab::sim::Overrides;
+
+fn temp_path(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("rodlab-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+/// All data chunks of the recording (not the blueprint), decoded with Rerun's decoder.
+fn decode(path: &Path) -> Vec<Chunk> {
+    let file = std::io::BufReader::new(std::fs::File::open(path).unwrap());
+    let mut chunks = Vec::new();
+    for msg in DecoderApp::decode_lazy(file) {
+        let msg = msg.expect("recording decodes");
+        if let LogMsg::ArrowMsg(store, arrow) = msg {
+            if store.kind() == rerun::StoreKind::Recording {
+                chunks.push(Chunk::from_arrow_msg(&arrow).expect("chunk decodes"));
+            }
+        }
+    }
+    chunks
+}
+
+/// Frames at which `entity` received a component whose name ends with `component`.
+fn frames_with(chunks: &[Chunk], entity: &str, component: &str) -> BTreeSet<i64> {
+    let mut frames = BTreeSet::new();
+    for chunk in chunks
+        .iter()
+        .filter(|c| c.entity_path().to_string() == format!("/{entity}") && !c.is_static())
+    {
+        if !chunk
+            .component_descriptors()
+            .any(|d| d.component.as_str().ends_with(component))
+        {
+            continue;
+        }
+        if let Some(column) = chunk.timelines().get(&"frame".into()) {
+            frames.extend(column.times_raw().iter().copied());
+        }
+    }
+    frames
+}
+
+#[test]
+fn recording_holds_body_poses_for_every_frame() {
+    let path = temp_path("passive_bending.rrd");
+    let mut scene = Scene::load(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenes/passive_bending.toml"
+    ))
+    .unwrap();
+    Overrides {
+        frames: Some(40),
+        ..Default::default()
+    }
+    .apply(&mut scene.def);
+    let report = record_scene(&scene, record::save_to(&path, "passive_bending").unwrap()).unwrap();
+    assert_eq!(report.frames, 40);
+    let chunks = decode(&path);
+    let expected: BTreeSet<i64> = (0..=40).collect();
+    assert_eq!(
+        frames_with(&chunks, "world/chain3/capsules", "translations"),
+        expected
+    );
+    assert_eq!(
+        frames_with(&chunks, "world/chain3/capsules", "quaternions"),
+        expected
+    );
+    assert_eq!(
+        frames_with(&chunks, "metrics/dislocation_cm/chain3", "scalars"),
+        expected
+    );
+    // shapes are static
+    assert!(chunks
+        .iter()
+        .any(|c| c.is_static() && c.entity_path().to_string() == "/world/chain3/capsules"));
+}
+
+const EXPLODING: &str = r#"
+dt = 0.016666668
+iterations = 10
+frames = 100
+
+[[body]]
+name = "anchor"
+kind = "fixed"
+shape = "sphere"
+radius = 0.05
+
+[[body]]
+name = "bob"
+shape = "sphere"
+radius = 0.05
+mass = 1.0
+position = [0.0, -1.0, 0.0]
+velocity = [0.0, 0.0, 40.0]
+
+[[joint]]
+name = "rope"
+a = "anchor"
+b = "bob"
+anchor = [0.0, 0.0, 0.0]
+"#;
+
+#[test]
+fn explosion_names_body_constraint_and_frame_and_keeps_the_recording() {
+    // A 1 m pendulum whirled at 40 m/s, then the bound lowered below what it reaches: the run
+    // must stop at the first frame above the bound.
+    let path = temp_path("explode.rrd");
+    let mut scene = Scene::parse("explode.toml", EXPLODING).unwrap();
+    scene.def.max_speed = 30.0;
+    let err =
+        record_scene(&scene, record::save_to(&path, "explode").unwrap()).expect_err("must stop");
+    let text = format!("{err:#}");
+    assert!(
+        text.contains("body \"bob\"") && text.contains("\"rope\"") && text.contains("frame 1:"),
+        "{text}"
+    );
+    let chunks = decode(&path);
+    assert_eq!(
+        frames_with(&chunks, "world/props/spheres", "centers"),
+        BTreeSet::from([0])
+    );
+    assert!(chunks
+        .iter()
+        .any(|c| c.entity_path().to_string() == "/failure"));
+}
+
+#[test]
+fn nan_stops_the_run() {
+    let mut scene = Scene::parse("nan.toml", EXPLODING).unwrap();
+    let mut world = scene.build().unwrap();
+    let bob = world.find_body("bob").unwrap();
+    world.body_mut(bob).linear_velocity.x = f32::NAN;
+    scene.def.frames = 5;
+    let err = rodlab::sim::run(&mut world, 5, &mut rodlab::sim::NoObserver)
+        .expect_err("NaN must stop the run");
+    let text = err.to_string();
+    assert!(
+        text.contains("bob") && text.contains("NaN") && text.contains("rope"),
+        "{text}"
+    );
+}

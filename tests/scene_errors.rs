@@ -1,0 +1,161 @@
+//! Every scene-file mistake gives an error naming the file, the line and the field.
+
+use rodlab::scene::Scene;
+
+const GOOD: &str = r#"
+dt = 0.01
+iterations = 10
+frames = 10
+
+[[ragdoll]]
+name = "r0"
+spine = "chain3"
+
+[[body]]
+name = "ground"
+kind = "fixed"
+shape = "box"
+half_extents = [1.0, 0.1, 1.0]
+
+[[body]]
+name = "ball"
+shape = "sphere"
+radius = 0.1
+mass = 1.0
+position = [0.0, 1.0, 0.0]
+
+[[joint]]
+name = "tether"
+a = "ground"
+b = "ball"
+anchor = [0.0, 0.5, 0.0]
+spring = 0.5
+"#;
+
+/// Replaces `from` with `to` in the good scene and returns the error text.
+fn error_for(from: &str, to: &str) -> String {
+    assert!(GOOD.contains(from), "test setup: {from:?} not in scene");
+    let text = GOOD.replacen(from, to, 1);
+    let err = Scene::parse("scenes/x.toml", &text)
+        .and_then(|s| s.build().map(|_| ()))
+        .expect_err("must fail");
+    err.to_string()
+}
+
+fn line_of(needle: &str) -> usize {
+    GOOD.lines().position(|l| l.contains(needle)).unwrap() + 1
+}
+
+#[test]
+fn the_good_scene_loads() {
+    let scene = Scene::parse("scenes/x.toml", GOOD).unwrap();
+    let world = scene.build().unwrap();
+    assert_eq!(world.ragdolls.len(), 1);
+}
+
+#[test]
+fn unknown_spine_names_the_field_and_choices() {
+    let e = error_for(r#"spine = "chain3""#, r#"spine = "chian3""#);
+    let line = line_of("spine =");
+    assert!(
+        e.starts_with(&format!("scenes/x.toml:{line}: ragdoll[0].spine: ")),
+        "{e}"
+    );
+    assert!(
+        e.contains("\"chian3\"") && e.contains("chain3, rod, single"),
+        "{e}"
+    );
+}
+
+#[test]
+fn non_positive_mass_on_dynamic_body() {
+    let e = error_for("mass = 1.0", "mass = 0.0");
+    assert!(
+        e.starts_with(&format!(
+            "scenes/x.toml:{}: body[1].mass: ",
+            line_of("mass =")
+        )),
+        "{e}"
+    );
+    assert!(e.contains("positive"), "{e}");
+}
+
+#[test]
+fn non_positive_dt() {
+    let e = error_for("dt = 0.01", "dt = -0.01");
+    assert!(e.starts_with("scenes/x.toml:2: dt: "), "{e}");
+}
+
+#[test]
+fn zero_iterations() {
+    let e = error_for("iterations = 10", "iterations = 0");
+    assert!(e.starts_with("scenes/x.toml:3: iterations: "), "{e}");
+}
+
+#[test]
+fn unknown_body_in_a_joint() {
+    let e = error_for(r#"b = "ball""#, r#"b = "bal""#);
+    assert!(
+        e.starts_with(&format!(
+            "scenes/x.toml:{}: joint[0].b: ",
+            line_of(r#"b = "ball""#)
+        )),
+        "{e}"
+    );
+    assert!(e.contains("unknown body \"bal\""), "{e}");
+}
+
+#[test]
+fn relaxation_outside_unit_interval() {
+    let e = error_for("spring = 0.5", "spring = 1.5");
+    assert!(
+        e.starts_with(&format!(
+            "scenes/x.toml:{}: joint[0].spring: ",
+            line_of("spring =")
+        )),
+        "{e}"
+    );
+    assert!(e.contains("[0, 1]"), "{e}");
+}
+
+#[test]
+fn unknown_field_is_refused() {
+    let e = error_for("radius = 0.1", "radius = 0.1\nradiuss = 0.2");
+    assert!(
+        e.contains("scenes/x.toml:") && e.contains("body[1]") && e.contains("radiuss"),
+        "{e}"
+    );
+}
+
+#[test]
+fn wrong_type_names_the_field() {
+    let e = error_for("frames = 10", r#"frames = "ten""#);
+    assert!(e.starts_with("scenes/x.toml:4: frames: "), "{e}");
+}
+
+#[test]
+fn missing_shape_size_names_the_body() {
+    let e = error_for("radius = 0.1\n", "");
+    assert!(
+        e.contains("body[1].radius") && e.contains("required"),
+        "{e}"
+    );
+}
+
+#[test]
+fn unknown_pose_joint() {
+    let e = error_for(
+        r#"spine = "chain3""#,
+        "spine = \"chain3\"\npose = { elbw_l = [10.0, 0.0, 0.0] }",
+    );
+    assert!(
+        e.contains("ragdoll[0].pose.elbw_l") && e.contains("elbow_l"),
+        "{e}"
+    );
+}
+
+#[test]
+fn broken_toml_names_the_line() {
+    let e = error_for("frames = 10", "frames = = 10");
+    assert!(e.starts_with("scenes/x.toml:4: "), "{e}");
+}
