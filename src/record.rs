@@ -240,6 +240,7 @@ impl Recorder {
                         batch.entity.as_str(),
                         &rerun::Capsules3D::from_lengths_and_radii(lengths, radii)
                             .with_colors(colors)
+                            .with_fill_mode(rerun::components::FillMode::Solid)
                             .with_labels(labels)
                             .with_show_labels(false),
                     )?;
@@ -254,6 +255,7 @@ impl Recorder {
                         batch.entity.as_str(),
                         &rerun::Ellipsoids3D::from_radii(radii)
                             .with_colors(colors)
+                            .with_fill_mode(rerun::components::FillMode::Solid)
                             .with_labels(labels)
                             .with_show_labels(false),
                     )?;
@@ -271,6 +273,7 @@ impl Recorder {
                         batch.entity.as_str(),
                         &rerun::Boxes3D::from_half_sizes(half_sizes)
                             .with_colors(colors)
+                            .with_fill_mode(rerun::components::FillMode::Solid)
                             .with_labels(labels)
                             .with_show_labels(false),
                     )?;
