@@ -202,6 +202,12 @@ impl Body {
         n.dot(self.inverse_inertia_world * n)
     }
 
+    /// `g . I^-1 g` for an angular gradient `g` of any length.
+    #[inline]
+    pub(crate) fn angular_inverse_mass_unnormalised(&self, g: Vec3) -> f32 {
+        g.dot(self.inverse_inertia_world * g)
+    }
+
     /// Inverse effective mass block of a point at offset `r`: `1/m I - [r] I^-1 [r]`.
     #[inline]
     pub(crate) fn point_inverse_mass_matrix(&self, r: Vec3) -> Mat3 {

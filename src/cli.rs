@@ -10,11 +10,13 @@ use clap::{
     parser::ValueSource, ArgMatches, Args, CommandFactory, FromArgMatches, Parser, Subcommand,
 };
 
-use crate::constraint::JointFlavour;
+use crate::constraint::{JointFlavour, TwistMode};
+use crate::metrics::FrameMetrics;
 use crate::ragdoll::SpineKind;
 use crate::record::{self, Recorder};
 use crate::scene::Scene;
-use crate::sim::{self, Overrides, RunReport};
+use crate::sim::{self, Observer, Overrides, RunReport};
+use crate::world::{SimulationError, World};
 
 #[derive(Debug, Parser)]
 #[command(
@@ -70,6 +72,23 @@ pub struct OverrideArgs {
     /// Ball-and-socket solver: cheap or exact.
     #[arg(long)]
     pub joint: Option<JointFlavour>,
+    /// Rod bending relaxation alpha_b in [0, 1].
+    #[arg(long, value_parser = unit_interval)]
+    pub alpha_b: Option<f32>,
+    /// Rod twisting relaxation alpha_t in [0, 1].
+    #[arg(long, value_parser = unit_interval)]
+    pub alpha_t: Option<f32>,
+    /// Rod twist measure: exact or paper.
+    #[arg(long)]
+    pub twist: Option<TwistMode>,
+}
+
+fn unit_interval(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if (0.0..=1.0).contains(&v) => Ok(v),
+        Ok(v) => Err(format!("must lie in [0, 1], got {v}")),
+        Err(e) => Err(e.to_string()),
+    }
 }
 
 fn positive_seconds(s: &str) -> Result<f32, String> {
@@ -88,6 +107,9 @@ impl From<&OverrideArgs> for Overrides {
             frames: a.frames,
             spine: a.spine,
             joint_flavour: a.joint,
+            alpha_b: a.alpha_b,
+            alpha_t: a.alpha_t,
+            twist: a.twist,
         }
     }
 }
@@ -132,12 +154,55 @@ pub fn load_scene(path: &Path, overrides: &Overrides) -> anyhow::Result<Scene> {
     Ok(scene)
 }
 
-/// Runs `scene` into a recording at `out`; the recording stays readable if the run fails.
+/// Runs `scene` into a recording; the recording stays readable if the run fails.
 pub fn record_scene(scene: &Scene, rec: rerun::RecordingStream) -> anyhow::Result<RunReport> {
     let mut world = scene.build()?;
     let mut recorder = Recorder::new(rec, &world, scene)?;
-    sim::run(&mut world, scene.def.frames, &mut recorder)
+    let mut observer = RowPrinter {
+        inner: &mut recorder,
+        every: scene.def.report_every,
+    };
+    sim::run(&mut world, scene.def.frames, &mut observer)
         .with_context(|| format!("{}: simulation stopped", scene.path.display()))
+}
+
+/// Prints one row of residuals per ragdoll every `every` frames, then hands on the frame.
+struct RowPrinter<'a> {
+    inner: &'a mut dyn Observer,
+    every: u32,
+}
+
+impl Observer for RowPrinter<'_> {
+    fn begin(&mut self, world: &World, metrics: &FrameMetrics) -> anyhow::Result<()> {
+        if self.every > 0 {
+            println!(
+                "  {:>6} {:>8} {:<14} {:>10} {:>10} {:>14}",
+                "frame", "time s", "ragdoll", "disl. cm", "ang. rad", "pose dev. cm"
+            );
+        }
+        self.inner.begin(world, metrics)
+    }
+
+    fn frame(&mut self, world: &World, metrics: &FrameMetrics) -> anyhow::Result<()> {
+        if self.every > 0 && world.frame % self.every as u64 == 0 {
+            for (ragdoll, r) in world.ragdolls.iter().zip(&metrics.ragdolls) {
+                println!(
+                    "  {:>6} {:>8.3} {:<14} {:>10.4} {:>10.5} {:>14.4}",
+                    world.frame,
+                    world.time,
+                    ragdoll.name,
+                    r.dislocation_cm,
+                    r.angular_rad,
+                    r.pose_deviation_cm
+                );
+            }
+        }
+        self.inner.frame(world, metrics)
+    }
+
+    fn failed(&mut self, world: &World, error: &SimulationError) {
+        self.inner.failed(world, error)
+    }
 }
 
 fn run_one(
@@ -229,18 +294,34 @@ pub fn print_summary(name: &str, scene: &Scene, report: &RunReport) {
         report.final_energy
     );
     println!(
-        "  {:<14} {:<7} {:>14} {:>13} {:>15} {:>14}",
-        "ragdoll", "spine", "mean disl. cm", "max disl. cm", "mean ang. rad", "max ang. rad"
+        "  {:<14} {:<7} {:>14} {:>13} {:>15} {:>14} {:>18}",
+        "ragdoll",
+        "spine",
+        "mean disl. cm",
+        "max disl. cm",
+        "mean ang. rad",
+        "max ang. rad",
+        "mean pose dev. cm"
     );
     for r in &report.ragdolls {
         println!(
-            "  {:<14} {:<7} {:>14.4} {:>13.4} {:>15.5} {:>14.5}",
+            "  {:<14} {:<7} {:>14.4} {:>13.4} {:>15.5} {:>14.5} {:>18.4}",
             r.name,
             r.spine.to_string(),
             r.summary.mean_dislocation_cm(),
             r.summary.dislocation_max,
             r.summary.mean_angular_rad(),
-            r.summary.angular_max
+            r.summary.angular_max,
+            r.summary.mean_pose_deviation_cm()
+        );
+    }
+    for (i, rod) in report.final_rods.iter().enumerate() {
+        println!(
+            "  rod {i}: final psi {:.3} rad, tau {:.3} rad, length violation {:.4} cm, curve violation {:.5} rad",
+            rod.psi,
+            rod.tau,
+            100.0 * rod.length_error,
+            rod.curve_error
         );
     }
 }

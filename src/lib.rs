@@ -17,6 +17,7 @@
 //! - [`solver`]: the step, its order written as a numbered list;
 //! - [`world`]: bodies + constraints + settings, failure detection;
 //! - [`ragdoll`]: the reference humanoid builder (spines chain3 | single | rod);
+//! - [`skeleton`]: the animation bones posed back from the physics (§6);
 //! - [`scene`]: TOML scene definitions and their checks;
 //! - [`metrics`]: residual dislocation (cm) and angular violation (rad), energy;
 //! - [`sim`]: the run loop and its observer hook;
@@ -32,5 +33,6 @@ pub mod record;
 pub mod scene;
 pub mod shape;
 pub mod sim;
+pub mod skeleton;
 pub mod solver;
 pub mod world;

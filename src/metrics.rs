@@ -2,10 +2,13 @@
 //! - dislocation: distance between a joint's two world anchors, summed per ragdoll, in cm;
 //! - angular violation: how far hard angular constraints (joint limits) are violated, summed
 //!   per ragdoll, in rad;
-//! - energy: kinetic plus gravitational potential (zero at y = 0), in J.
+//! - energy: kinetic plus gravitational potential (zero at y = 0), in J;
+//! - per rod: psi, tau, length and curve violation; per skeleton and bone-mapping method: bone
+//!   length error and chest-end gap (cm).
 
-use crate::constraint::Violation;
+use crate::constraint::{Constraint, RodState, Violation};
 use crate::ragdoll::Ragdoll;
+use crate::skeleton::{BoneError, BoneMethod};
 use crate::world::World;
 
 /// Residual of one ragdoll in the units the paper plots.
@@ -13,6 +16,9 @@ use crate::world::World;
 pub struct Residual {
     pub dislocation_cm: f32,
     pub angular_rad: f32,
+    /// Mean distance of the ragdoll's bodies from their starting positions (cm): the deviation
+    /// from the target pose in the controllability experiment (Fig. 7).
+    pub pose_deviation_cm: f32,
 }
 
 pub fn ragdoll_residual(world: &World, ragdoll: &Ragdoll) -> Residual {
@@ -20,9 +26,15 @@ pub fn ragdoll_residual(world: &World, ragdoll: &Ragdoll) -> Residual {
     for constraint in &world.constraints[ragdoll.constraints.clone()] {
         total += constraint.violation(&world.bodies);
     }
+    let deviation: f32 = ragdoll
+        .body_ids()
+        .zip(&ragdoll.target_positions)
+        .map(|(id, target)| (world.body(id).position - *target).length())
+        .sum();
     Residual {
         dislocation_cm: 100.0 * total.dislocation,
         angular_rad: total.angular,
+        pose_deviation_cm: 100.0 * deviation / ragdoll.target_positions.len().max(1) as f32,
     }
 }
 
@@ -33,6 +45,10 @@ pub struct FrameMetrics {
     pub ragdolls: Vec<Residual>,
     pub kinetic_energy: f32,
     pub potential_energy: f32,
+    /// One per rod constraint, in constraint order.
+    pub rods: Vec<RodState>,
+    /// Per ragdoll with a skeleton, per bone-mapping method: (ragdoll index, method, error).
+    pub bones: Vec<(usize, BoneMethod, BoneError)>,
 }
 
 impl FrameMetrics {
@@ -43,6 +59,22 @@ impl FrameMetrics {
             .extend(world.ragdolls.iter().map(|r| ragdoll_residual(world, r)));
         self.kinetic_energy = world.kinetic_energy();
         self.potential_energy = world.potential_energy();
+        self.rods.clear();
+        for constraint in &world.constraints {
+            if let Constraint::Rod(rod) = constraint {
+                self.rods
+                    .push(rod.state(world.body(rod.body_a), world.body(rod.body_b)));
+            }
+        }
+        self.bones.clear();
+        for (i, ragdoll) in world.ragdolls.iter().enumerate() {
+            if let Some(skeleton) = &ragdoll.skeleton {
+                for &method in skeleton.methods() {
+                    let bones = skeleton.pose(world, method);
+                    self.bones.push((i, method, skeleton.error(world, &bones)));
+                }
+            }
+        }
     }
 
     pub fn total_energy(&self) -> f32 {
@@ -58,6 +90,8 @@ pub struct Summary {
     pub dislocation_max: f32,
     pub angular_sum: f64,
     pub angular_max: f32,
+    pub deviation_sum: f64,
+    pub deviation_max: f32,
 }
 
 impl Summary {
@@ -67,6 +101,12 @@ impl Summary {
         self.dislocation_max = self.dislocation_max.max(r.dislocation_cm);
         self.angular_sum += r.angular_rad as f64;
         self.angular_max = self.angular_max.max(r.angular_rad);
+        self.deviation_sum += r.pose_deviation_cm as f64;
+        self.deviation_max = self.deviation_max.max(r.pose_deviation_cm);
+    }
+
+    pub fn mean_pose_deviation_cm(&self) -> f64 {
+        self.deviation_sum / self.frames.max(1) as f64
     }
 
     pub fn mean_dislocation_cm(&self) -> f64 {

@@ -11,7 +11,8 @@
 //! - `chain3`: pelvis - lower spine - upper spine - chest, three ball-and-socket joints;
 //! - `single`: pelvis - chest, one ball-and-socket at the lumbosacral joint with the three
 //!   spine joints' ranges added up (swing 75 deg, twist +-45 deg);
-//! - `rod`: pelvis - chest joined by one rod constraint (paper §5; next issue).
+//! - `rod`: pelvis - chest joined by one rod constraint (paper §5), instantiated at the starting
+//!   pose (§6) with the body normals pointing forward.
 //!
 //! With `single` and `rod` the removed spine bodies' 12.24 kg are shared equally between
 //! pelvis and chest, so the total stays 75 kg.
@@ -22,9 +23,10 @@ use std::ops::Range;
 use serde::Deserialize;
 
 use crate::body::{Body, BodyId, BodyKind};
-use crate::constraint::{AngularLimit, BallSocket, Constraint, JointFlavour};
+use crate::constraint::{AngularLimit, BallSocket, Constraint, JointFlavour, Rod, TwistMode};
 use crate::math::{Iso, Quat, Vec3};
 use crate::shape::{Axis, Shape};
+use crate::skeleton::Skeleton;
 use crate::world::World;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Default)]
@@ -76,6 +78,28 @@ pub struct HumanoidSpec {
     pub limb_spring: Option<f32>,
     /// Parts made fixed (e.g. "pelvis").
     pub fixed: Vec<String>,
+    /// Rod parameters (used by the `rod` spine).
+    pub rod: RodParams,
+    /// Constant external forces (N) on parts, e.g. a push on the chest.
+    pub forces: Vec<(String, Vec3)>,
+}
+
+/// The rod spine's soft-constraint relaxations and twist measure.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RodParams {
+    pub alpha_bend: f32,
+    pub alpha_twist: f32,
+    pub twist_mode: TwistMode,
+}
+
+impl Default for RodParams {
+    fn default() -> Self {
+        RodParams {
+            alpha_bend: 0.1,
+            alpha_twist: 0.5,
+            twist_mode: TwistMode::Exact,
+        }
+    }
 }
 
 impl HumanoidSpec {
@@ -89,6 +113,8 @@ impl HumanoidSpec {
             spine_spring: None,
             limb_spring: None,
             fixed: Vec::new(),
+            rod: RodParams::default(),
+            forces: Vec::new(),
         }
     }
 }
@@ -100,6 +126,10 @@ pub struct Ragdoll {
     pub spine: SpineKind,
     pub bodies: Range<usize>,
     pub constraints: Range<usize>,
+    /// The animation skeleton between hips and chest (§6); None for plain groups of bodies.
+    pub skeleton: Option<Skeleton>,
+    /// Body positions of the starting pose, the target of the controllability measure.
+    pub target_positions: Vec<Vec3>,
 }
 
 impl Ragdoll {
@@ -407,9 +437,6 @@ fn v2(c: [f32; 2]) -> Vec3 {
 
 /// Builds the humanoid into `world`. Errors name the unknown joint or part.
 pub fn build_humanoid(world: &mut World, spec: &HumanoidSpec) -> Result<Ragdoll, String> {
-    if spec.spine == SpineKind::Rod {
-        return Err("spine \"rod\" needs the rod constraint, which is not built yet".into());
-    }
     let spine = spec.spine;
     let known_joints = joint_names(spine);
     for (joint, _) in &spec.joint_rotations {
@@ -421,6 +448,15 @@ pub fn build_humanoid(world: &mut World, spec: &HumanoidSpec) -> Result<Ragdoll,
         }
     }
     let parts: Vec<&Part> = PARTS.iter().filter(|p| has_part(spine, p.name)).collect();
+    for (name, _) in &spec.forces {
+        if !parts.iter().any(|p| p.name == name) {
+            let names: Vec<_> = parts.iter().map(|p| p.name).collect();
+            return Err(format!(
+                "unknown part \"{name}\", expected one of {}",
+                names.join(", ")
+            ));
+        }
+    }
     for fixed in &spec.fixed {
         if !parts.iter().any(|p| p.name == fixed) {
             let names: Vec<_> = parts.iter().map(|p| p.name).collect();
@@ -479,14 +515,36 @@ pub fn build_humanoid(world: &mut World, spec: &HumanoidSpec) -> Result<Ragdoll,
             radius: p.radius,
             axis: p.axis,
         };
-        world.add_body(
-            Body::new(format!("{}/{}", spec.name, p.name), kind, shape, mass)
-                .with_pose(pose.translation, pose.rotation),
-        );
+        let mut body = Body::new(format!("{}/{}", spec.name, p.name), kind, shape, mass)
+            .with_pose(pose.translation, pose.rotation);
+        body.external_force = spec
+            .forces
+            .iter()
+            .filter(|(n, _)| n == p.name)
+            .map(|(_, f)| *f)
+            .sum();
+        world.add_body(body);
     }
 
     let first_constraint = world.constraints.len();
-    for def in joint_defs(spine) {
+    if spine == SpineKind::Rod {
+        let (pelvis, chest) = (index_of("pelvis"), index_of("chest"));
+        let forward = spec.root.rotation * Vec3::Z;
+        let id = |i: usize| BodyId((first_body + i) as u32);
+        let mut rod = Rod::instantiate(
+            format!("{}/spine_rod", spec.name),
+            &world.bodies,
+            id(pelvis),
+            id(chest),
+            forward,
+        )?;
+        rod.alpha_bend = spec.rod.alpha_bend;
+        rod.alpha_twist = spec.rod.alpha_twist;
+        rod.twist_mode = spec.rod.twist_mode;
+        world.constraints.push(Constraint::Rod(rod));
+    }
+    // The rod spine replaces the lumbosacral joint, which only served the pose above.
+    for def in joint_defs(spine).filter(|d| !(spine == SpineKind::Rod && d.spine)) {
         let (parent, child) = (index_of(def.parent), index_of(def.child));
         let centre = v2(def.centre);
         let frame = def.axis.rotation();
@@ -520,11 +578,27 @@ pub fn build_humanoid(world: &mut World, spec: &HumanoidSpec) -> Result<Ragdoll,
         world.constraints.push(Constraint::BallSocket(joint));
     }
 
+    let spine_bodies: Vec<(BodyId, f32)> = ["pelvis", "lower_spine", "upper_spine", "chest"]
+        .iter()
+        .filter(|n| has_part(spine, n))
+        .map(|n| {
+            (
+                BodyId((first_body + index_of(n)) as u32),
+                parts[index_of(n)].centre[1],
+            )
+        })
+        .collect();
+    let rod = (spine == SpineKind::Rod).then_some(first_constraint);
     let ragdoll = Ragdoll {
         name: spec.name.clone(),
         spine,
         bodies: first_body..world.bodies.len(),
         constraints: first_constraint..world.constraints.len(),
+        skeleton: Some(Skeleton::attach(world, &spine_bodies, rod)),
+        target_positions: world.bodies[first_body..]
+            .iter()
+            .map(|b| b.position)
+            .collect(),
     };
     world.ragdolls.push(ragdoll.clone());
     Ok(ragdoll)

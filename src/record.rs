@@ -5,6 +5,11 @@
 //!   `props` for free bodies); shapes logged once as static data, per-instance translations and
 //!   quaternions every frame;
 //! - `world/<group>/joints`: both world anchors of every joint (Points3D, 2 per joint);
+//! - `world/<ragdoll>/rod/<rod>/centerline` (LineStrips3D, gamma(s) sampled, ends at the body
+//!   centres) and `.../frames` (Arrows3D: material normal and binormal along the arc);
+//! - `world/<ragdoll>/bones/<method>`: the animation bones (LineStrips3D through their origins);
+//! - `metrics/rod/<ragdoll>/<rod>/{psi,tau,length_violation_cm,curve_violation_rad}`;
+//! - `metrics/bones/<ragdoll>/<method>/{length_error_cm,chest_gap_cm}`;
 //! - `metrics/dislocation_cm/<ragdoll>`, `metrics/angular_rad/<ragdoll>`: residual scalars, one
 //!   plot per measure with one series per ragdoll so spines compare in one plot;
 //! - `metrics/energy/{kinetic,potential,total}`: energy (J);
@@ -28,6 +33,7 @@ use crate::ragdoll::SpineKind;
 use crate::scene::{RecordDef, Scene};
 use crate::shape::Shape;
 use crate::sim::Observer;
+use crate::skeleton::BoneMethod;
 use crate::world::{SimulationError, World};
 
 /// Application id of every rodlab recording.
@@ -88,8 +94,20 @@ pub struct Recorder {
     /// Per joint group: entity and constraint indices.
     joint_groups: Vec<(String, Vec<usize>)>,
     anchor_buffer: Vec<[f32; 3]>,
-    metric_paths: Vec<(String, String)>,
+    metric_paths: Vec<(String, String, String)>,
+    /// Per rod constraint: (constraint index, world entity prefix, metrics prefix).
+    rods: Vec<(usize, String, String)>,
+    /// Scratch for arcs and frames.
+    points: Vec<[f32; 3]>,
+    arrows: Vec<[f32; 3]>,
+    arrow_origins: Vec<[f32; 3]>,
+    arrow_colors: Vec<rerun::Color>,
 }
+
+/// Points sampled along each rod's centerline.
+const CENTERLINE_SAMPLES: usize = 24;
+/// Material frames drawn along each rod.
+const FRAME_SAMPLES: usize = 7;
 
 fn group_of(world: &World, body: BodyId) -> String {
     world
@@ -153,6 +171,23 @@ impl Recorder {
                 }
             }
         }
+        let rods = world
+            .constraints
+            .iter()
+            .enumerate()
+            .filter_map(|(i, c)| match c {
+                Constraint::Rod(rod) => {
+                    let group = group_of(world, rod.body_a);
+                    let short = rod.name.rsplit('/').next().unwrap_or(&rod.name).to_string();
+                    Some((
+                        i,
+                        format!("world/{group}/rod/{short}"),
+                        format!("metrics/rod/{group}/{short}"),
+                    ))
+                }
+                _ => None,
+            })
+            .collect();
         let metric_paths = world
             .ragdolls
             .iter()
@@ -160,6 +195,7 @@ impl Recorder {
                 (
                     format!("metrics/dislocation_cm/{}", r.name),
                     format!("metrics/angular_rad/{}", r.name),
+                    format!("metrics/pose_deviation_cm/{}", r.name),
                 )
             })
             .collect();
@@ -170,6 +206,11 @@ impl Recorder {
             joint_groups,
             anchor_buffer: Vec::new(),
             metric_paths,
+            rods,
+            points: Vec::new(),
+            arrows: Vec::new(),
+            arrow_origins: Vec::new(),
+            arrow_colors: Vec::new(),
         };
         recorder.log_static(world, scene)?;
         Ok(recorder)
@@ -280,12 +321,13 @@ impl Recorder {
                 }
             }
         }
-        for (r, (dislocation, angular)) in world.ragdolls.iter().zip(&self.metric_paths) {
+        for (r, paths) in world.ragdolls.iter().zip(&self.metric_paths) {
             let style = rerun::SeriesLines::new()
                 .with_colors([spine_color(r.spine)])
                 .with_names([r.name.as_str()]);
-            rec.log_static(dislocation.as_str(), &style)?;
-            rec.log_static(angular.as_str(), &style)?;
+            for path in [&paths.0, &paths.1, &paths.2] {
+                rec.log_static(path.as_str(), &style)?;
+            }
         }
         Ok(())
     }
@@ -352,9 +394,13 @@ impl Recorder {
             }
         }
         if self.options.residuals {
-            for ((dislocation, angular), residual) in
+            for ((dislocation, angular, deviation), residual) in
                 self.metric_paths.iter().zip(&metrics.ragdolls)
             {
+                rec.log(
+                    deviation.as_str(),
+                    &rerun::Scalars::single(residual.pose_deviation_cm as f64),
+                )?;
                 rec.log(
                     dislocation.as_str(),
                     &rerun::Scalars::single(residual.dislocation_cm as f64),
@@ -365,7 +411,10 @@ impl Recorder {
                 )?;
             }
         }
+        self.log_rods(world, metrics)?;
+        self.log_bones(world, metrics)?;
         if self.options.energy {
+            let rec = &self.rec;
             rec.log(
                 "metrics/energy/kinetic",
                 &rerun::Scalars::single(metrics.kinetic_energy as f64),
@@ -380,9 +429,101 @@ impl Recorder {
             )?;
         }
         if world.frame % FLUSH_EVERY_FRAMES == 0 {
-            rec.flush_blocking()?;
+            self.rec.flush_blocking()?;
         }
         Ok(())
+    }
+}
+
+impl Recorder {
+    /// Per rod: centerline (LineStrips3D), material frames (Arrows3D), and its scalars.
+    fn log_rods(&mut self, world: &World, metrics: &FrameMetrics) -> anyhow::Result<()> {
+        for ((index, entity, metric), state) in self.rods.iter().zip(&metrics.rods) {
+            let Constraint::Rod(rod) = &world.constraints[*index] else {
+                continue;
+            };
+            let (a, b) = (world.body(rod.body_a), world.body(rod.body_b));
+            self.points.clear();
+            for i in 0..CENTERLINE_SAMPLES {
+                let s = i as f32 / (CENTERLINE_SAMPLES - 1) as f32;
+                self.points.push(rod.sample(a, b, s).0.to_array());
+            }
+            self.rec.log(
+                format!("{entity}/centerline"),
+                &rerun::LineStrips3D::new([self.points.iter().copied()])
+                    .with_radii([0.008])
+                    .with_colors([rerun::Color::from_rgb(250, 140, 40)]),
+            )?;
+            self.arrows.clear();
+            self.arrow_origins.clear();
+            self.arrow_colors.clear();
+            for i in 0..FRAME_SAMPLES {
+                let s = i as f32 / (FRAME_SAMPLES - 1) as f32;
+                let (point, frame) = rod.sample(a, b, s);
+                for (axis, color) in [
+                    (Vec3::Y, rerun::Color::from_rgb(230, 60, 60)),
+                    (Vec3::Z, rerun::Color::from_rgb(60, 200, 90)),
+                ] {
+                    self.arrow_origins.push(point.to_array());
+                    self.arrows.push((0.06 * (frame * axis)).to_array());
+                    self.arrow_colors.push(color);
+                }
+            }
+            self.rec.log(
+                format!("{entity}/frames"),
+                &rerun::Arrows3D::from_vectors(self.arrows.iter().copied())
+                    .with_origins(self.arrow_origins.iter().copied())
+                    .with_colors(self.arrow_colors.iter().copied()),
+            )?;
+            for (name, value) in [
+                ("psi", state.psi),
+                ("tau", state.tau),
+                ("length_violation_cm", 100.0 * state.length_error),
+                ("curve_violation_rad", state.curve_error),
+            ] {
+                self.rec.log(
+                    format!("{metric}/{name}"),
+                    &rerun::Scalars::single(value as f64),
+                )?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Animation bones per ragdoll and mapping method, with their errors.
+    fn log_bones(&mut self, world: &World, metrics: &FrameMetrics) -> anyhow::Result<()> {
+        for &(ragdoll_index, method, error) in &metrics.bones {
+            let ragdoll = &world.ragdolls[ragdoll_index];
+            let Some(skeleton) = &ragdoll.skeleton else {
+                continue;
+            };
+            let bones = skeleton.pose(world, method);
+            self.rec.log(
+                format!("world/{}/bones/{}", ragdoll.name, method.name()),
+                &rerun::LineStrips3D::new([bones.origins.iter().map(|p| p.to_array())])
+                    .with_radii([0.006])
+                    .with_colors([bone_color(method)]),
+            )?;
+            let metric = format!("metrics/bones/{}/{}", ragdoll.name, method.name());
+            self.rec.log(
+                format!("{metric}/length_error_cm"),
+                &rerun::Scalars::single(error.length_cm as f64),
+            )?;
+            self.rec.log(
+                format!("{metric}/chest_gap_cm"),
+                &rerun::Scalars::single(error.chest_gap_cm as f64),
+            )?;
+        }
+        Ok(())
+    }
+}
+
+fn bone_color(method: BoneMethod) -> rerun::Color {
+    match method {
+        BoneMethod::Rigid => rerun::Color::from_rgb(240, 240, 240),
+        BoneMethod::Orientation => rerun::Color::from_rgb(250, 220, 60),
+        BoneMethod::OrientationPosition => rerun::Color::from_rgb(60, 220, 250),
+        BoneMethod::Arc => rerun::Color::from_rgb(250, 90, 200),
     }
 }
 

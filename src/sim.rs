@@ -1,7 +1,7 @@
 //! The run loop shared by the CLI, tests and benchmarks: step, measure, hand each frame to an
 //! [`Observer`] (the recorder, a test, or nothing). No Rerun here.
 
-use crate::constraint::JointFlavour;
+use crate::constraint::{JointFlavour, TwistMode};
 use crate::metrics::{FrameMetrics, Summary};
 use crate::ragdoll::SpineKind;
 use crate::scene::SceneDef;
@@ -42,6 +42,9 @@ pub struct Overrides {
     pub frames: Option<u32>,
     pub spine: Option<SpineKind>,
     pub joint_flavour: Option<JointFlavour>,
+    pub alpha_b: Option<f32>,
+    pub alpha_t: Option<f32>,
+    pub twist: Option<TwistMode>,
 }
 
 impl Overrides {
@@ -65,6 +68,11 @@ impl Overrides {
                 .for_each(|r| r.joint_flavour = Some(flavour));
             def.joint.iter_mut().for_each(|j| j.flavour = Some(flavour));
         }
+        for r in &mut def.ragdoll {
+            r.alpha_b = self.alpha_b.or(r.alpha_b);
+            r.alpha_t = self.alpha_t.or(r.alpha_t);
+            r.twist = self.twist.or(r.twist);
+        }
     }
 }
 
@@ -82,6 +90,8 @@ pub struct RunReport {
     pub ragdolls: Vec<RagdollReport>,
     pub initial_energy: f32,
     pub final_energy: f32,
+    /// Final state of every rod, in constraint order.
+    pub final_rods: Vec<crate::constraint::RodState>,
 }
 
 /// Steps `world` for `frames` frames. Residual statistics cover frames 1..=frames.
@@ -119,5 +129,6 @@ pub fn run(
         ragdolls,
         initial_energy,
         final_energy: metrics.total_energy(),
+        final_rods: metrics.rods,
     })
 }

@@ -64,6 +64,8 @@ fn hanging_chain(flavour: JointFlavour, iterations: u32) -> (World, Ragdoll) {
         spine: SpineKind::Chain3,
         bodies: 0..world.bodies.len(),
         constraints: 0..world.constraints.len(),
+        skeleton: None,
+        target_positions: Vec::new(),
     };
     world.ragdolls.push(group.clone());
     (world, group)

@@ -65,3 +65,45 @@ fn the_upper_body_slumps_forward() {
         "chest moved {start} -> {end}"
     );
 }
+
+/// The paper's result (top of Fig. 8): at 20 iterations the rod spine leaves far less
+/// dislocation than the three-joint spine, and both spines slump forward (Fig. 2).
+#[test]
+fn rod_spine_leaves_less_dislocation_than_chain3() {
+    let mut scene = Scene::load(SCENE).unwrap();
+    Overrides {
+        frames: Some(240),
+        ..Default::default()
+    }
+    .apply(&mut scene.def);
+    let mut world = scene.build().unwrap();
+    let chests: Vec<_> = world
+        .ragdolls
+        .iter()
+        .map(|r| r.part(&world, "chest").unwrap())
+        .collect();
+    let start: Vec<_> = chests.iter().map(|&c| world.body(c).position).collect();
+    let report = sim::run(&mut world, scene.def.frames, &mut NoObserver).unwrap();
+    let by_spine = |spine: &str| {
+        report
+            .ragdolls
+            .iter()
+            .find(|r| r.spine.to_string() == spine)
+            .unwrap()
+            .summary
+    };
+    let (chain3, rod) = (by_spine("chain3"), by_spine("rod"));
+    assert!(
+        rod.mean_dislocation_cm() < 0.5 * chain3.mean_dislocation_cm(),
+        "rod {} cm vs chain3 {} cm",
+        rod.mean_dislocation_cm(),
+        chain3.mean_dislocation_cm()
+    );
+    for (chest, start) in chests.iter().zip(start) {
+        let end = world.body(*chest).position;
+        assert!(
+            end.z > start.z + 0.1 && end.y < start.y - 0.05,
+            "chest moved {start} -> {end}"
+        );
+    }
+}

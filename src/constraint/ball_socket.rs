@@ -15,6 +15,12 @@
 //! (§6: instantiated at the transition pose): each iteration removes the fraction `relaxation`
 //! of the rotation `q_a q_rest q_b^-1`, the same relaxation-factor idea as the rod's alpha_b.
 //!
+//! A spring with relaxation 1 is a hard angular target (the paper's "internal torque
+//! constraints" of §8) and its error counts as angular violation.
+//!
+//! A spring with relaxation 1 is a hard angular target (the paper's "internal torque
+//! constraints" of §8) and its error counts as angular violation.
+//!
 //! Solve order per iteration: spring, limits, point, so the dislocation is the freshest.
 
 use super::limits::AngularLimit;
@@ -146,12 +152,17 @@ impl BallSocket {
 
     pub fn violation(&self, a: &Body, b: &Body) -> Violation {
         let (pa, pb) = self.world_anchors(a, b);
-        let angular = self.limit.map_or(0.0, |limit| {
+        let mut angular = self.limit.map_or(0.0, |limit| {
             limit.violation(
                 a.preview_orientation * self.local_frame_a,
                 b.preview_orientation * self.local_frame_b,
             )
         });
+        if let Some(spring) = self.spring.filter(|s| s.relaxation >= 1.0) {
+            // A spring with relaxation 1 is a hard angular target: its error counts.
+            let error = a.preview_orientation * spring.rest * b.preview_orientation.inverse();
+            angular += rotation_vector(error).length();
+        }
         Violation {
             dislocation: (pb - pa).length(),
             angular,

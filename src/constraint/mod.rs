@@ -5,9 +5,11 @@
 pub mod ball_socket;
 pub mod limits;
 pub mod parts;
+pub mod rod;
 
 pub use ball_socket::{AngularSpring, BallSocket, JointFlavour};
 pub use limits::AngularLimit;
+pub use rod::{Rod, RodState, TwistMode};
 
 use crate::body::{Body, BodyId};
 
@@ -30,18 +32,21 @@ impl std::ops::AddAssign for Violation {
 #[derive(Clone, Debug)]
 pub enum Constraint {
     BallSocket(BallSocket),
+    Rod(Rod),
 }
 
 impl Constraint {
     pub fn name(&self) -> &str {
         match self {
             Constraint::BallSocket(joint) => &joint.name,
+            Constraint::Rod(rod) => &rod.name,
         }
     }
 
     pub fn bodies(&self) -> (BodyId, BodyId) {
         match self {
             Constraint::BallSocket(joint) => (joint.body_a, joint.body_b),
+            Constraint::Rod(rod) => (rod.body_a, rod.body_b),
         }
     }
 
@@ -52,6 +57,7 @@ impl Constraint {
         let (a, b) = parts::pair_mut(bodies, ia.index(), ib.index());
         match self {
             Constraint::BallSocket(joint) => joint.solve(a, b),
+            Constraint::Rod(rod) => rod.solve(a, b),
         }
     }
 
@@ -60,6 +66,7 @@ impl Constraint {
         let (a, b) = (&bodies[ia.index()], &bodies[ib.index()]);
         match self {
             Constraint::BallSocket(joint) => joint.violation(a, b),
+            Constraint::Rod(rod) => rod.violation(a, b),
         }
     }
 }

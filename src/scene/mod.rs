@@ -10,9 +10,9 @@ use std::path::{Path, PathBuf};
 use serde::Deserialize;
 
 use crate::body::{Body, BodyKind};
-use crate::constraint::{AngularLimit, BallSocket, Constraint, JointFlavour};
+use crate::constraint::{AngularLimit, BallSocket, Constraint, JointFlavour, TwistMode};
 use crate::math::{quat_from_degrees, Iso, Quat, Vec3};
-use crate::ragdoll::{build_humanoid, joint_names, HumanoidSpec, SpineKind};
+use crate::ragdoll::{build_humanoid, joint_names, HumanoidSpec, RodParams, SpineKind};
 use crate::shape::{Axis, Shape};
 use crate::world::{Settings, World, DEFAULT_MAX_ANGULAR_SPEED, DEFAULT_MAX_LINEAR_SPEED};
 use locate::Seg;
@@ -48,6 +48,9 @@ pub struct SceneDef {
     pub body: Vec<BodyDef>,
     #[serde(default)]
     pub joint: Vec<JointDef>,
+    /// Print a residual row every this many frames (0: only the summary).
+    #[serde(default)]
+    pub report_every: u32,
 }
 
 fn default_dt() -> f32 {
@@ -125,6 +128,15 @@ pub struct RagdollDef {
     pub spine_spring: Option<f32>,
     /// Relaxation in [0, 1] of the other joints' springs toward the starting pose.
     pub limb_spring: Option<f32>,
+    /// Rod spine: bending relaxation alpha_b in [0, 1] (eq. 11).
+    pub alpha_b: Option<f32>,
+    /// Rod spine: twisting relaxation alpha_t in [0, 1] (eq. 13).
+    pub alpha_t: Option<f32>,
+    /// Rod spine: twist measure, exact (parallel transport) or paper (eq. 12).
+    pub twist: Option<TwistMode>,
+    /// Constant external forces (N) on parts, e.g. `{ chest = [0.0, 0.0, 150.0] }`.
+    #[serde(default)]
+    pub forces: std::collections::BTreeMap<String, [f32; 3]>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Default)]
@@ -334,6 +346,19 @@ impl Scene {
                 }
             }
             let parts = crate::ragdoll::part_names(r.spine);
+            for part in r.forces.keys() {
+                if !parts.contains(&part.as_str()) {
+                    let mut p = at("ragdoll", i, "forces");
+                    p.push(Seg::Key(part.clone()));
+                    return Err((
+                        p,
+                        format!(
+                            "unknown part \"{part}\", expected one of {}",
+                            parts.join(", ")
+                        ),
+                    ));
+                }
+            }
             for part in &r.fixed {
                 if !parts.contains(&part.as_str()) {
                     return Err((
@@ -423,6 +448,19 @@ impl Scene {
                 spine_spring: r.spine_spring,
                 limb_spring: r.limb_spring,
                 fixed: r.fixed.clone(),
+                forces: r
+                    .forces
+                    .iter()
+                    .map(|(k, v)| (k.clone(), Vec3::from(*v)))
+                    .collect(),
+                rod: {
+                    let default = RodParams::default();
+                    RodParams {
+                        alpha_bend: r.alpha_b.unwrap_or(default.alpha_bend),
+                        alpha_twist: r.alpha_t.unwrap_or(default.alpha_twist),
+                        twist_mode: r.twist.unwrap_or(default.twist_mode),
+                    }
+                },
             };
             let path = [
                 Seg::Key("ragdoll".into()),

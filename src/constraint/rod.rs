@@ -1,0 +1,335 @@
+//! The rod constraint (paper §5): an inextensible Kirchhoff rod between bodies a and b, shaped as
+//! a circular arc, with soft bending and twisting. All parts are solved in one function (§7).
+//!
+//! Ends at the centres of mass, frames fixed in the bodies (eq. 2):
+//! `gamma(0) = p_a`, `gamma(1) = p_b`, `F(0) = q_a F_a`, `F(1) = q_b F_b`; the body tangents
+//! `t_i = F(i) x` and normals `F(i) y`. With the offset `o = p_b - p_a`, `o^ = o / |o|` and the
+//! bend angle `psi = acos(t_a . t_b)`:
+//!
+//! - curve (eq. 6), hard: `C_curve = t_a + t_b - 2 (t_a . o^) o^ = 0`, i.e. `t_b = S t_a` with
+//!   `S = 2 o^ o^T - E` the half turn about `o^`. We solve its scalar form
+//!   `C = angle(t_b, r)`, `r = S t_a`, with `n = (t_b x r) / |t_b x r|`, `m = n x r`:
+//!   `dC/dtheta_a = S n`, `dC/dtheta_b = -n`,
+//!   `dC/dp_b = -dC/dp_a = g_o = (2 / |o|) (E - o^ o^T) ((t_a . o^) m + (m . o^) t_a)`.
+//!   The full gradient (rotations and positions) keeps the pair's momentum: `C` is invariant
+//!   under moving and turning the pair together.
+//! - length (eq. 9), hard: `C_len = |p_b - p_a| - 2 l_0 sin(psi/2) / psi`, corrected by linear
+//!   motion along `o^` only, at fixed `psi`, as the paper does.
+//! - bend (eq. 11), soft: `C_bend = alpha_b psi^2 / (2 l_0^2)`; each iteration removes the
+//!   fraction `alpha_b` of `psi` by equal and opposite turns about `t_a x t_b`
+//!   (`alpha_b = 0`: free bending; `1`: straight).
+//! - twist (eq. 12-13), soft: `C_twist = alpha_t tau^2 / 2`; each iteration removes the fraction
+//!   `alpha_t` of `tau` by equal and opposite turns about `t_b`. `tau` is measured
+//!   ([`TwistMode::Exact`]) as the signed turn about `t_b` left between `F(1)` and `F(0)`
+//!   carried along the arc (the bend by `psi` about `t_a x t_b`, the natural frame's parallel
+//!   transport), or ([`TwistMode::Paper`]) as eq. 12, `tau = xi - psi` with `xi` the total
+//!   angle between `F(0)` and `F(1)`: it has no sign (we take the sign from the exact twist) and
+//!   underestimates a twist on a bent rod.
+//!
+//! The arc (eq. 7-8, in a form stable at small `psi`): with `k` the unit normal of `t_a` toward
+//! `t_b`, `gamma(s) = p_a + l_0 (sin(psi s)/psi t_a + (1 - cos(psi s))/psi k)`, whose chord is
+//! eq. 9. Its natural frame at `s` is `F(0)` turned by `psi s` about `t_a x t_b`; the material
+//! frame adds the twist `tau s` about the tangent.
+
+use super::parts::relative_rotation;
+use super::Violation;
+use crate::body::{Body, BodyId};
+use crate::math::{angle_between, any_perpendicular, twist_angle, Quat, Vec3};
+
+/// How the twist angle tau is measured.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum TwistMode {
+    /// Signed turn about the end tangent after parallel transport along the arc.
+    #[default]
+    Exact,
+    /// The paper's eq. 12, `tau = xi - psi` (unsigned; underestimates on bent rods).
+    Paper,
+}
+
+impl std::str::FromStr for TwistMode {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "exact" => Ok(Self::Exact),
+            "paper" => Ok(Self::Paper),
+            _ => Err(format!(
+                "unknown twist mode \"{s}\", expected one of exact, paper"
+            )),
+        }
+    }
+}
+
+#[derive(Clone, Debug)]
+pub struct Rod {
+    pub name: String,
+    pub body_a: BodyId,
+    pub body_b: BodyId,
+    /// Rod frame in each body (eq. 2): x is the body tangent, y the body normal.
+    pub local_frame_a: Quat,
+    pub local_frame_b: Quat,
+    /// Rest length l_0 (m).
+    pub rest_length: f32,
+    /// Bending relaxation alpha_b in [0, 1].
+    pub alpha_bend: f32,
+    /// Twisting relaxation alpha_t in [0, 1].
+    pub alpha_twist: f32,
+    pub twist_mode: TwistMode,
+}
+
+/// Everything measured on a rod at one instant.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RodState {
+    pub psi: f32,
+    pub tau: f32,
+    /// eq. 9 (m).
+    pub length_error: f32,
+    /// angle between t_b and the reflection of t_a about o^ (rad).
+    pub curve_error: f32,
+}
+
+impl Rod {
+    /// Instantiates a rod at the bodies' current poses (§6): rest length `|p_b - p_a|` and both
+    /// tangents along the offset, so the rod starts straight and every constraint holds.
+    /// `normal_hint` picks the body normals (projected off the tangent).
+    pub fn instantiate(
+        name: impl Into<String>,
+        bodies: &[Body],
+        body_a: BodyId,
+        body_b: BodyId,
+        normal_hint: Vec3,
+    ) -> Result<Rod, String> {
+        let name = name.into();
+        let (a, b) = (&bodies[body_a.index()], &bodies[body_b.index()]);
+        let offset = b.position - a.position;
+        let rest_length = offset.length();
+        if !(rest_length > 1e-4) {
+            return Err(format!("rod \"{name}\": the body centres coincide (rest length {rest_length} m); a rod needs a positive rest length"));
+        }
+        let tangent = offset / rest_length;
+        let normal = (normal_hint - normal_hint.dot(tangent) * tangent)
+            .try_normalize()
+            .unwrap_or_else(|| any_perpendicular(tangent));
+        let frame = Quat::from_mat3(&glam::Mat3::from_cols(
+            tangent,
+            normal,
+            tangent.cross(normal),
+        ))
+        .normalize();
+        Ok(Rod {
+            name,
+            body_a,
+            body_b,
+            local_frame_a: (a.orientation.inverse() * frame).normalize(),
+            local_frame_b: (b.orientation.inverse() * frame).normalize(),
+            rest_length,
+            alpha_bend: 0.0,
+            alpha_twist: 0.0,
+            twist_mode: TwistMode::Exact,
+        })
+    }
+
+    /// World rod frames F(0), F(1) at the preview poses.
+    pub fn frames(&self, a: &Body, b: &Body) -> (Quat, Quat) {
+        (
+            a.preview_orientation * self.local_frame_a,
+            b.preview_orientation * self.local_frame_b,
+        )
+    }
+
+    pub fn twist(&self, frame_a: Quat, frame_b: Quat) -> f32 {
+        let exact = twist_exact(frame_a, frame_b);
+        match self.twist_mode {
+            TwistMode::Exact => exact,
+            TwistMode::Paper => twist_paper(frame_a, frame_b).copysign(exact),
+        }
+    }
+
+    pub fn state(&self, a: &Body, b: &Body) -> RodState {
+        let (fa, fb) = self.frames(a, b);
+        let (ta, tb) = (fa * Vec3::X, fb * Vec3::X);
+        let (pa, pb) = (a.preview_position, b.preview_position);
+        RodState {
+            psi: angle_between(ta, tb),
+            tau: self.twist(fa, fb),
+            length_error: length_error(pa, ta, pb, tb, self.rest_length),
+            curve_error: curve_error(pa, ta, pb, tb),
+        }
+    }
+
+    /// One projection of bend, twist, curve and length, sharing the geometry (§7).
+    pub fn solve(&self, a: &mut Body, b: &mut Body) {
+        // Soft bend (eq. 11): remove alpha_b of psi about t_a x t_b.
+        let (fa, fb) = self.frames(a, b);
+        let (ta, tb) = (fa * Vec3::X, fb * Vec3::X);
+        if self.alpha_bend > 0.0 {
+            let psi = angle_between(ta, tb);
+            if psi > 1e-7 {
+                let axis = ta
+                    .cross(tb)
+                    .try_normalize()
+                    .unwrap_or_else(|| any_perpendicular(ta));
+                relative_rotation(a, b, -self.alpha_bend * psi * axis);
+            }
+        }
+        // Soft twist (eq. 12-13): remove alpha_t of tau about t_b.
+        if self.alpha_twist > 0.0 {
+            let (fa, fb) = self.frames(a, b);
+            let tau = self.twist(fa, fb);
+            relative_rotation(a, b, -self.alpha_twist * tau * (fb * Vec3::X));
+        }
+        // Hard curve (eq. 6), full gradient.
+        let (fa, fb) = self.frames(a, b);
+        let (ta, tb) = (fa * Vec3::X, fb * Vec3::X);
+        let (pa, pb) = (a.preview_position, b.preview_position);
+        let c = curve_error(pa, ta, pb, tb);
+        if c > 1e-7 {
+            let g = curve_gradient(pa, ta, pb, tb);
+            let w = (a.inverse_mass + b.inverse_mass) * g.p_b.length_squared()
+                + a.angular_inverse_mass_unnormalised(g.theta_a)
+                + b.angular_inverse_mass_unnormalised(g.theta_b);
+            if w > 0.0 {
+                let lambda = -c / w;
+                a.apply_positional_impulse(lambda * g.p_a, Vec3::ZERO);
+                b.apply_positional_impulse(lambda * g.p_b, Vec3::ZERO);
+                a.apply_angular_impulse(lambda * g.theta_a);
+                b.apply_angular_impulse(lambda * g.theta_b);
+            }
+        }
+        // Hard length (eq. 9), linear motion along o^ at fixed psi.
+        let (fa, fb) = self.frames(a, b);
+        let (ta, tb) = (fa * Vec3::X, fb * Vec3::X);
+        let (pa, pb) = (a.preview_position, b.preview_position);
+        let c = length_error(pa, ta, pb, tb, self.rest_length);
+        let w = a.inverse_mass + b.inverse_mass;
+        if c.abs() > 1e-9 && w > 0.0 {
+            let axis = offset_axis(pa, pb, ta);
+            let impulse = (c / w) * axis;
+            a.apply_positional_impulse(impulse, Vec3::ZERO);
+            b.apply_positional_impulse(-impulse, Vec3::ZERO);
+        }
+    }
+
+    /// Dislocation |C_len| (m) and the curve error (rad), the rod's hard constraints.
+    pub fn violation(&self, a: &Body, b: &Body) -> Violation {
+        let s = self.state(a, b);
+        Violation {
+            dislocation: s.length_error.abs(),
+            angular: s.curve_error,
+        }
+    }
+
+    /// Point gamma(s) and material frame F(s) of the arc at the current poses, s in [0, 1].
+    /// The arc is built from p_a and t_a; any residual gap at p_b is shared linearly along s so
+    /// the drawn curve always ends at both centres.
+    pub fn sample(&self, a: &Body, b: &Body, s: f32) -> (Vec3, Quat) {
+        let (fa, fb) = self.frames(a, b);
+        let (ta, tb) = (fa * Vec3::X, fb * Vec3::X);
+        let end = arc_point(a.preview_position, ta, tb, self.rest_length, 1.0);
+        let gap = b.preview_position - end;
+        let point = arc_point(a.preview_position, ta, tb, self.rest_length, s) + s * gap;
+        let psi = angle_between(ta, tb);
+        let bend_axis = ta
+            .cross(tb)
+            .try_normalize()
+            .unwrap_or_else(|| any_perpendicular(ta));
+        let natural = Quat::from_axis_angle(bend_axis, psi * s) * fa;
+        let frame = natural * Quat::from_rotation_x(self.twist(fa, fb) * s);
+        (point, frame.normalize())
+    }
+}
+
+/// `2 sin(psi/2) / psi`, the chord of a unit-length arc bent by psi (eq. 9), with its series
+/// `1 - psi^2/24 + psi^4/1920` near 0.
+pub fn chord_ratio(psi: f32) -> f32 {
+    if psi.abs() < 1e-2 {
+        let p2 = psi * psi;
+        1.0 - p2 / 24.0 + p2 * p2 / 1920.0
+    } else {
+        2.0 * (0.5 * psi).sin() / psi
+    }
+}
+
+/// Unit offset axis o^; along the tangents when the centres coincide.
+pub fn offset_axis(pa: Vec3, pb: Vec3, ta: Vec3) -> Vec3 {
+    (pb - pa).try_normalize().unwrap_or(ta)
+}
+
+/// The vector form of eq. 6: `t_a + t_b - 2 (t_a . o^) o^`.
+pub fn curve_vector(pa: Vec3, ta: Vec3, pb: Vec3, tb: Vec3) -> Vec3 {
+    let o = offset_axis(pa, pb, ta);
+    ta + tb - 2.0 * ta.dot(o) * o
+}
+
+/// Angle (rad) between t_b and the reflection `S t_a` of t_a about o^: the scalar form of eq. 6.
+pub fn curve_error(pa: Vec3, ta: Vec3, pb: Vec3, tb: Vec3) -> f32 {
+    let o = offset_axis(pa, pb, ta);
+    angle_between(tb, 2.0 * ta.dot(o) * o - ta)
+}
+
+/// eq. 9: `|p_b - p_a| - 2 l_0 sin(psi/2) / psi`.
+pub fn length_error(pa: Vec3, ta: Vec3, pb: Vec3, tb: Vec3, rest_length: f32) -> f32 {
+    (pb - pa).length() - rest_length * chord_ratio(angle_between(ta, tb))
+}
+
+/// Gradient of [`curve_error`] with respect to positions and rotation vectors of both bodies.
+#[derive(Clone, Copy, Debug)]
+pub struct CurveGradient {
+    pub p_a: Vec3,
+    pub theta_a: Vec3,
+    pub p_b: Vec3,
+    pub theta_b: Vec3,
+}
+
+pub fn curve_gradient(pa: Vec3, ta: Vec3, pb: Vec3, tb: Vec3) -> CurveGradient {
+    let offset = pb - pa;
+    let distance = offset.length();
+    let o = offset_axis(pa, pb, ta);
+    let r = 2.0 * ta.dot(o) * o - ta;
+    let n = tb
+        .cross(r)
+        .try_normalize()
+        .unwrap_or_else(|| any_perpendicular(tb));
+    let m = n.cross(r);
+    let reflect = |v: Vec3| 2.0 * v.dot(o) * o - v;
+    let g_o = if distance > 1e-6 {
+        let v = ta.dot(o) * m + m.dot(o) * ta;
+        (2.0 / distance) * (v - v.dot(o) * o)
+    } else {
+        Vec3::ZERO
+    };
+    CurveGradient {
+        p_a: -g_o,
+        theta_a: reflect(n),
+        p_b: g_o,
+        theta_b: -n,
+    }
+}
+
+/// A point of the arc from p_a with tangent t_a bent toward t_b, length `rest_length`, s in [0, 1].
+pub fn arc_point(pa: Vec3, ta: Vec3, tb: Vec3, rest_length: f32, s: f32) -> Vec3 {
+    let psi = angle_between(ta, tb);
+    let k = (tb - ta.dot(tb) * ta)
+        .try_normalize()
+        .unwrap_or_else(|| any_perpendicular(ta));
+    let (along, across) = if psi < 1e-3 {
+        let ps = psi * s;
+        (s * (1.0 - ps * ps / 6.0), s * ps * (0.5 - ps * ps / 24.0))
+    } else {
+        ((psi * s).sin() / psi, (1.0 - (psi * s).cos()) / psi)
+    };
+    pa + rest_length * (along * ta + across * k)
+}
+
+/// Signed twist about t_b: `F(1)` against `F(0)` carried along the arc by the minimal rotation
+/// taking t_a to t_b.
+pub fn twist_exact(frame_a: Quat, frame_b: Quat) -> f32 {
+    let transport = Quat::from_rotation_arc(frame_a * Vec3::X, frame_b * Vec3::X);
+    twist_angle((transport * frame_a).inverse() * frame_b, Vec3::X)
+}
+
+/// The paper's eq. 12: `tau = xi - psi`, xi the total angle between the two frames.
+pub fn twist_paper(frame_a: Quat, frame_b: Quat) -> f32 {
+    let xi = crate::math::rotation_vector(frame_a.inverse() * frame_b).length();
+    xi - angle_between(frame_a * Vec3::X, frame_b * Vec3::X)
+}
