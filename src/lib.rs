@@ -19,6 +19,7 @@
 //! - [`ragdoll`]: the reference humanoid builder (spines chain3 | single | rod);
 //! - [`skeleton`]: the animation bones posed back from the physics (§6);
 //! - [`scene`]: TOML scene definitions and their checks;
+//! - [`kinematics`]: chain-versus-rod end loci (Fig. 6);
 //! - [`metrics`]: residual dislocation (cm) and angular violation (rad), energy;
 //! - [`sim`]: the run loop and its observer hook;
 //! - [`record`]: Rerun recording; [`cli`]: the command line.
@@ -26,6 +27,7 @@
 pub mod body;
 pub mod cli;
 pub mod constraint;
+pub mod kinematics;
 pub mod math;
 pub mod metrics;
 pub mod ragdoll;

@@ -51,6 +51,36 @@ pub struct SceneDef {
     /// Print a residual row every this many frames (0: only the summary).
     #[serde(default)]
     pub report_every: u32,
+    /// A purely kinematic comparison of chains and a rod (Fig. 6) instead of a simulation.
+    pub kinematics: Option<KinematicsDef>,
+}
+
+/// Fig. 6: end loci of an equal-angle chain, an unequal-angle chain and a rod of one length,
+/// swept over bends in [-max_bend, max_bend] across the scene's frames.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct KinematicsDef {
+    /// Spine length (m), pelvis centre to chest centre.
+    #[serde(default = "default_spine_length")]
+    pub length: f32,
+    /// Joints in the chains.
+    #[serde(default = "default_chain_joints")]
+    pub joints: usize,
+    /// Shares of the bend taken by each joint of the unequal chain (normalised).
+    pub unequal: Vec<f32>,
+    /// Largest bend (deg).
+    #[serde(default = "default_max_bend")]
+    pub max_bend: f32,
+}
+
+fn default_spine_length() -> f32 {
+    0.385
+}
+fn default_chain_joints() -> usize {
+    3
+}
+fn default_max_bend() -> f32 {
+    150.0
 }
 
 fn default_dt() -> f32 {
@@ -319,6 +349,33 @@ impl Scene {
         }
         if !(d.max_angular_speed > 0.0) {
             return Err((key("max_angular_speed"), "must be positive".into()));
+        }
+        if let Some(k) = &d.kinematics {
+            let field = |f: &str| vec![Seg::Key("kinematics".into()), Seg::Key(f.into())];
+            if !(k.length > 0.0) {
+                return Err((
+                    field("length"),
+                    format!("must be positive, got {}", k.length),
+                ));
+            }
+            if k.joints == 0 {
+                return Err((field("joints"), "must be at least 1".into()));
+            }
+            if k.unequal.len() != k.joints
+                || k.unequal.iter().any(|w| !(*w >= 0.0))
+                || k.unequal.iter().sum::<f32>() <= 0.0
+            {
+                return Err((
+                    field("unequal"),
+                    format!("needs {} non-negative shares with a positive sum", k.joints),
+                ));
+            }
+            if !d.ragdoll.is_empty() || !d.body.is_empty() {
+                return Err((
+                    field("joints"),
+                    "a kinematics scene simulates nothing: remove its ragdolls and bodies".into(),
+                ));
+            }
         }
         let mut names: Vec<&str> = Vec::new();
         for (i, r) in d.ragdoll.iter().enumerate() {
