@@ -179,6 +179,12 @@ impl Body {
         self.preview_orientation = crate::math::rotate_by_small(self.preview_orientation, dtheta);
     }
 
+    /// Applies a positional impulse `impulse` (kg m) through the centre of mass: dp = P / m.
+    #[inline]
+    pub(crate) fn apply_linear_impulse(&mut self, impulse: Vec3) {
+        self.preview_position += impulse * self.inverse_mass;
+    }
+
     /// Applies an angular impulse `l` (kg m^2 rad) to the preview orientation: dtheta = I^-1 l.
     #[inline]
     pub(crate) fn apply_angular_impulse(&mut self, l: Vec3) {

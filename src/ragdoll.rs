@@ -23,7 +23,9 @@ use std::ops::Range;
 use serde::Deserialize;
 
 use crate::body::{Body, BodyId, BodyKind};
-use crate::constraint::{AngularLimit, BallSocket, Constraint, JointFlavour, Rod, TwistMode};
+use crate::constraint::{
+    AngularLimit, BallSocket, Constraint, JointFlavour, LengthCorrection, Rod, TwistMode,
+};
 use crate::math::{Iso, Quat, Vec3};
 use crate::shape::{Axis, Shape};
 use crate::skeleton::Skeleton;
@@ -90,6 +92,7 @@ pub struct RodParams {
     pub alpha_bend: f32,
     pub alpha_twist: f32,
     pub twist_mode: TwistMode,
+    pub length_correction: LengthCorrection,
 }
 
 impl Default for RodParams {
@@ -98,6 +101,7 @@ impl Default for RodParams {
             alpha_bend: 0.1,
             alpha_twist: 0.5,
             twist_mode: TwistMode::Exact,
+            length_correction: LengthCorrection::Offset,
         }
     }
 }
@@ -541,6 +545,7 @@ pub fn build_humanoid(world: &mut World, spec: &HumanoidSpec) -> Result<Ragdoll,
         rod.alpha_bend = spec.rod.alpha_bend;
         rod.alpha_twist = spec.rod.alpha_twist;
         rod.twist_mode = spec.rod.twist_mode;
+        rod.length_correction = spec.rod.length_correction;
         world.constraints.push(Constraint::Rod(rod));
     }
     // The rod spine replaces the lumbosacral joint, which only served the pose above.

@@ -9,7 +9,7 @@ pub mod rod;
 
 pub use ball_socket::{AngularSpring, BallSocket, JointFlavour};
 pub use limits::AngularLimit;
-pub use rod::{Rod, RodState, TwistMode};
+pub use rod::{LengthCorrection, Rod, RodState, TwistMode};
 
 use crate::body::{Body, BodyId};
 

@@ -36,6 +36,19 @@ use super::Violation;
 use crate::body::{Body, BodyId};
 use crate::math::{angle_between, any_perpendicular, twist_angle, Quat, Vec3};
 
+/// How the length constraint (eq. 9) is corrected.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LengthCorrection {
+    /// The paper's: linear motion along o^ at fixed psi. Its force is not along the gradient of
+    /// eq. 9, so on a freely bending rod it does work (`tests/rod.rs` measures the gain).
+    #[default]
+    Offset,
+    /// Along the full gradient of eq. 9: also turns the bodies through psi,
+    /// `dC/dtheta_b = -dC/dtheta_a = -l_0 c'(psi) (t_a x t_b)^`, with `c(psi) = 2 sin(psi/2)/psi`.
+    Gradient,
+}
+
 /// How the twist angle tau is measured.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -75,6 +88,7 @@ pub struct Rod {
     /// Twisting relaxation alpha_t in [0, 1].
     pub alpha_twist: f32,
     pub twist_mode: TwistMode,
+    pub length_correction: LengthCorrection,
 }
 
 /// Everything measured on a rod at one instant.
@@ -126,6 +140,7 @@ impl Rod {
             alpha_bend: 0.0,
             alpha_twist: 0.0,
             twist_mode: TwistMode::Exact,
+            length_correction: LengthCorrection::Offset,
         })
     }
 
@@ -190,8 +205,8 @@ impl Rod {
                 + b.angular_inverse_mass_unnormalised(g.theta_b);
             if w > 0.0 {
                 let lambda = -c / w;
-                a.apply_positional_impulse(lambda * g.p_a, Vec3::ZERO);
-                b.apply_positional_impulse(lambda * g.p_b, Vec3::ZERO);
+                a.apply_linear_impulse(lambda * g.p_a);
+                b.apply_linear_impulse(lambda * g.p_b);
                 a.apply_angular_impulse(lambda * g.theta_a);
                 b.apply_angular_impulse(lambda * g.theta_b);
             }
@@ -201,12 +216,27 @@ impl Rod {
         let (ta, tb) = (fa * Vec3::X, fb * Vec3::X);
         let (pa, pb) = (a.preview_position, b.preview_position);
         let c = length_error(pa, ta, pb, tb, self.rest_length);
-        let w = a.inverse_mass + b.inverse_mass;
+        let axis = offset_axis(pa, pb, ta);
+        // angular part of the gradient: zero for the paper's correction
+        let g_theta_b = match self.length_correction {
+            LengthCorrection::Offset => Vec3::ZERO,
+            LengthCorrection::Gradient => {
+                let bend_axis = ta.cross(tb).try_normalize().unwrap_or(Vec3::ZERO);
+                -self.rest_length * chord_ratio_derivative(angle_between(ta, tb)) * bend_axis
+            }
+        };
+        let w = a.inverse_mass
+            + b.inverse_mass
+            + a.angular_inverse_mass_unnormalised(g_theta_b)
+            + b.angular_inverse_mass_unnormalised(g_theta_b);
         if c.abs() > 1e-9 && w > 0.0 {
-            let axis = offset_axis(pa, pb, ta);
-            let impulse = (c / w) * axis;
-            a.apply_positional_impulse(impulse, Vec3::ZERO);
-            b.apply_positional_impulse(-impulse, Vec3::ZERO);
+            let lambda = c / w;
+            a.apply_linear_impulse(lambda * axis);
+            b.apply_linear_impulse(-lambda * axis);
+            if g_theta_b != Vec3::ZERO {
+                a.apply_angular_impulse(lambda * g_theta_b);
+                b.apply_angular_impulse(-lambda * g_theta_b);
+            }
         }
     }
 
@@ -247,6 +277,15 @@ pub fn chord_ratio(psi: f32) -> f32 {
         1.0 - p2 / 24.0 + p2 * p2 / 1920.0
     } else {
         2.0 * (0.5 * psi).sin() / psi
+    }
+}
+
+/// `d/dpsi (2 sin(psi/2) / psi)`, with its series `-psi/12 + psi^3/480` near 0.
+pub fn chord_ratio_derivative(psi: f32) -> f32 {
+    if psi.abs() < 1e-2 {
+        -psi / 12.0 + psi * psi * psi / 480.0
+    } else {
+        (psi * (0.5 * psi).cos() - 2.0 * (0.5 * psi).sin()) / (psi * psi)
     }
 }
 
@@ -316,7 +355,9 @@ pub fn arc_point(pa: Vec3, ta: Vec3, tb: Vec3, rest_length: f32, s: f32) -> Vec3
         let ps = psi * s;
         (s * (1.0 - ps * ps / 6.0), s * ps * (0.5 - ps * ps / 24.0))
     } else {
-        ((psi * s).sin() / psi, (1.0 - (psi * s).cos()) / psi)
+        // 1 - cos x = 2 sin^2(x/2), without the cancellation of the left side in f32
+        let half = (0.5 * psi * s).sin();
+        ((psi * s).sin() / psi, 2.0 * half * half / psi)
     };
     pa + rest_length * (along * ta + across * k)
 }

@@ -10,7 +10,9 @@ use std::path::{Path, PathBuf};
 use serde::Deserialize;
 
 use crate::body::{Body, BodyKind};
-use crate::constraint::{AngularLimit, BallSocket, Constraint, JointFlavour, TwistMode};
+use crate::constraint::{
+    AngularLimit, BallSocket, Constraint, JointFlavour, LengthCorrection, TwistMode,
+};
 use crate::math::{quat_from_degrees, Iso, Quat, Vec3};
 use crate::ragdoll::{build_humanoid, joint_names, HumanoidSpec, RodParams, SpineKind};
 use crate::shape::{Axis, Shape};
@@ -164,6 +166,8 @@ pub struct RagdollDef {
     pub alpha_t: Option<f32>,
     /// Rod spine: twist measure, exact (parallel transport) or paper (eq. 12).
     pub twist: Option<TwistMode>,
+    /// Rod spine: length correction, offset (the paper's) or gradient (workless).
+    pub rod_length: Option<LengthCorrection>,
     /// Constant external forces (N) on parts, e.g. `{ chest = [0.0, 0.0, 150.0] }`.
     #[serde(default)]
     pub forces: std::collections::BTreeMap<String, [f32; 3]>,
@@ -516,6 +520,7 @@ impl Scene {
                         alpha_bend: r.alpha_b.unwrap_or(default.alpha_bend),
                         alpha_twist: r.alpha_t.unwrap_or(default.alpha_twist),
                         twist_mode: r.twist.unwrap_or(default.twist_mode),
+                        length_correction: r.rod_length.unwrap_or(default.length_correction),
                     }
                 },
             };
