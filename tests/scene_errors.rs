@@ -159,3 +159,53 @@ fn broken_toml_names_the_line() {
     let e = error_for("frames = 10", "frames = = 10");
     assert!(e.starts_with("scenes/x.toml:4: "), "{e}");
 }
+
+const WITH_ROD: &str = r#"
+[[rod]]
+name = "spring"
+a = "ground"
+b = "ball"
+rest_length = 0.5
+alpha_b = 0.1
+"#;
+
+#[test]
+fn a_rod_between_bodies_loads() {
+    let scene = Scene::parse("scenes/x.toml", &format!("{GOOD}{WITH_ROD}")).unwrap();
+    let world = scene.build().unwrap();
+    assert!(world.constraints.iter().any(|c| c.name() == "spring"));
+}
+
+#[test]
+fn zero_or_negative_rest_length_is_refused() {
+    for bad in ["0.0", "-0.2"] {
+        let text = format!(
+            "{GOOD}{}",
+            WITH_ROD.replace("rest_length = 0.5", &format!("rest_length = {bad}"))
+        );
+        let line = text
+            .lines()
+            .position(|l| l.starts_with("rest_length"))
+            .unwrap()
+            + 1;
+        let e = Scene::parse("scenes/x.toml", &text)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with(&format!("scenes/x.toml:{line}: rod[0].rest_length: ")),
+            "{e}"
+        );
+    }
+}
+
+#[test]
+fn a_rod_between_coincident_centres_is_refused() {
+    let text = format!("{GOOD}{WITH_ROD}")
+        .replace("position = [0.0, 1.0, 0.0]", "position = [0.0, 0.0, 0.0]");
+    let e = Scene::parse("scenes/x.toml", &text)
+        .unwrap()
+        .build()
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("rod[0].b") && e.contains("coincide"), "{e}");
+}

@@ -11,7 +11,7 @@ use serde::Deserialize;
 
 use crate::body::{Body, BodyKind};
 use crate::constraint::{
-    AngularLimit, BallSocket, Constraint, JointFlavour, LengthCorrection, TwistMode,
+    AngularLimit, BallSocket, Constraint, JointFlavour, LengthCorrection, Rod, TwistMode,
 };
 use crate::math::{quat_from_degrees, Iso, Quat, Vec3};
 use crate::ragdoll::{build_humanoid, joint_names, HumanoidSpec, RodParams, SpineKind};
@@ -55,6 +55,35 @@ pub struct SceneDef {
     pub report_every: u32,
     /// A purely kinematic comparison of chains and a rod (Fig. 6) instead of a simulation.
     pub kinematics: Option<KinematicsDef>,
+    #[serde(default)]
+    pub rod: Vec<RodDef>,
+}
+
+/// A rod constraint (paper §5) between two named bodies, instantiated at their starting poses
+/// (§6): tangents along the offset between the centres.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RodDef {
+    pub name: String,
+    pub a: String,
+    pub b: String,
+    /// Rest length l_0 (m); defaults to the distance between the centres.
+    pub rest_length: Option<f32>,
+    #[serde(default)]
+    pub alpha_b: f32,
+    #[serde(default)]
+    pub alpha_t: f32,
+    #[serde(default)]
+    pub twist: TwistMode,
+    #[serde(default)]
+    pub length_correction: LengthCorrection,
+    /// Direction the body normals point to (projected off the tangent).
+    #[serde(default = "default_rod_normal")]
+    pub normal: [f32; 3],
+}
+
+fn default_rod_normal() -> [f32; 3] {
+    [0.0, 0.0, 1.0]
 }
 
 /// Fig. 6: end loci of an equal-angle chain, an unequal-angle chain and a rod of one length,
@@ -438,6 +467,32 @@ impl Scene {
             body_names.push(&b.name);
             check_body(b).map_err(|(field, m)| (at("body", i, field), m))?;
         }
+        for (i, r) in d.rod.iter().enumerate() {
+            check_name(&r.name, &names).map_err(|m| (at("rod", i, "name"), m))?;
+            names.push(&r.name);
+            for (field, name) in [("a", &r.a), ("b", &r.b)] {
+                if !body_names.contains(&name.as_str()) {
+                    return Err((
+                        at("rod", i, field),
+                        format!(
+                            "unknown body \"{name}\", expected one of: {}",
+                            body_names.join(", ")
+                        ),
+                    ));
+                }
+            }
+            if r.a == r.b {
+                return Err((at("rod", i, "b"), "a rod needs two different bodies".into()));
+            }
+            if let Some(l) = r.rest_length.filter(|l| !(*l > 0.0 && l.is_finite())) {
+                return Err((
+                    at("rod", i, "rest_length"),
+                    format!("must be a positive length, got {l}"),
+                ));
+            }
+            check_relaxation(Some(r.alpha_b)).map_err(|m| (at("rod", i, "alpha_b"), m))?;
+            check_relaxation(Some(r.alpha_t)).map_err(|m| (at("rod", i, "alpha_t"), m))?;
+        }
         let mut joint_names_seen: Vec<&str> = Vec::new();
         for (i, j) in d.joint.iter().enumerate() {
             check_name(&j.name, &joint_names_seen).map_err(|m| (at("joint", i, "name"), m))?;
@@ -559,6 +614,21 @@ impl Scene {
                 joint = joint.with_spring(&world.bodies, relaxation);
             }
             world.constraints.push(Constraint::BallSocket(joint));
+        }
+        for (i, r) in d.rod.iter().enumerate() {
+            let (a, b) = (
+                world.find_body(&r.a).expect("checked"),
+                world.find_body(&r.b).expect("checked"),
+            );
+            let path = [Seg::Key("rod".into()), Seg::Index(i), Seg::Key("b".into())];
+            let mut rod = Rod::instantiate(&r.name, &world.bodies, a, b, Vec3::from(r.normal))
+                .map_err(|m| self.error_at(&path, m))?;
+            rod.rest_length = r.rest_length.unwrap_or(rod.rest_length);
+            rod.alpha_bend = r.alpha_b;
+            rod.alpha_twist = r.alpha_t;
+            rod.twist_mode = r.twist;
+            rod.length_correction = r.length_correction;
+            world.constraints.push(Constraint::Rod(rod));
         }
         Ok(world)
     }
