@@ -154,7 +154,8 @@ struct Part {
     half_height: f32,
     radius: f32,
     centre: [f32; 2],
-    mass: f32,
+    /// Share of the total mass (de Leva 1996).
+    mass_fraction: f32,
 }
 
 const fn part(
@@ -163,7 +164,7 @@ const fn part(
     half_height: f32,
     radius: f32,
     centre: [f32; 2],
-    mass: f32,
+    mass_fraction: f32,
 ) -> Part {
     Part {
         name,
@@ -171,25 +172,28 @@ const fn part(
         half_height,
         radius,
         centre,
-        mass,
+        mass_fraction,
     }
 }
 
+/// Total mass of the reference humanoid (kg).
+pub const TOTAL_MASS: f32 = 75.0;
+
 /// humanoid.md, bodies with the 3-joint spine. Parent parts come before their children.
 const PARTS: [Part; 13] = [
-    part("pelvis", Axis::X, 0.070, 0.100, [0.0, 1.000], 8.38),
-    part("lower_spine", Axis::X, 0.090, 0.055, [0.0, 1.1125], 6.12),
-    part("upper_spine", Axis::X, 0.090, 0.055, [0.0, 1.2175], 6.12),
-    part("chest", Axis::X, 0.070, 0.120, [0.0, 1.385], 11.97),
-    part("head", Axis::Y, 0.040, 0.100, [0.0, 1.660], 5.20),
-    part("upper_arm_l", Axis::Y, 0.105, 0.045, [0.22, 1.290], 2.03),
-    part("upper_arm_r", Axis::Y, 0.105, 0.045, [-0.22, 1.290], 2.03),
-    part("forearm_l", Axis::Y, 0.180, 0.040, [0.22, 0.920], 1.67),
-    part("forearm_r", Axis::Y, 0.180, 0.040, [-0.22, 0.920], 1.67),
-    part("thigh_l", Axis::Y, 0.150, 0.070, [0.09, 0.730], 10.62),
-    part("thigh_r", Axis::Y, 0.150, 0.070, [-0.09, 0.730], 10.62),
-    part("shank_l", Axis::Y, 0.205, 0.050, [0.09, 0.255], 4.28),
-    part("shank_r", Axis::Y, 0.205, 0.050, [-0.09, 0.255], 4.28),
+    part("pelvis", Axis::X, 0.070, 0.100, [0.0, 1.000], 0.1117),
+    part("lower_spine", Axis::X, 0.090, 0.055, [0.0, 1.1125], 0.08165),
+    part("upper_spine", Axis::X, 0.090, 0.055, [0.0, 1.2175], 0.08165),
+    part("chest", Axis::X, 0.070, 0.120, [0.0, 1.385], 0.1596),
+    part("head", Axis::Y, 0.040, 0.100, [0.0, 1.660], 0.0694),
+    part("upper_arm_l", Axis::Y, 0.105, 0.045, [0.22, 1.290], 0.0271),
+    part("upper_arm_r", Axis::Y, 0.105, 0.045, [-0.22, 1.290], 0.0271),
+    part("forearm_l", Axis::Y, 0.180, 0.040, [0.22, 0.920], 0.0223),
+    part("forearm_r", Axis::Y, 0.180, 0.040, [-0.22, 0.920], 0.0223),
+    part("thigh_l", Axis::Y, 0.150, 0.070, [0.09, 0.730], 0.1416),
+    part("thigh_r", Axis::Y, 0.150, 0.070, [-0.09, 0.730], 0.1416),
+    part("shank_l", Axis::Y, 0.205, 0.050, [0.09, 0.255], 0.057),
+    part("shank_r", Axis::Y, 0.205, 0.050, [-0.09, 0.255], 0.057),
 ];
 
 /// Twist or hinge axis of a joint frame in the reference pose.
@@ -497,10 +501,11 @@ pub fn build_humanoid(world: &mut World, spec: &HumanoidSpec) -> Result<Ragdoll,
     }
 
     let first_body = world.bodies.len();
+    // single and rod: the two removed spine bodies' mass is shared by pelvis and chest
     let extra_mass = if spine == SpineKind::Chain3 {
         0.0
     } else {
-        0.5 * (6.12 + 6.12)
+        0.5 * 2.0 * 0.08165 * TOTAL_MASS
     };
     for (p, pose) in parts.iter().zip(&posed) {
         let kind = if spec.fixed.iter().any(|f| f == p.name) {
@@ -508,7 +513,7 @@ pub fn build_humanoid(world: &mut World, spec: &HumanoidSpec) -> Result<Ragdoll,
         } else {
             BodyKind::Dynamic
         };
-        let mass = p.mass
+        let mass = p.mass_fraction * TOTAL_MASS
             + if matches!(p.name, "pelvis" | "chest") {
                 extra_mass
             } else {

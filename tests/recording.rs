@@ -82,6 +82,23 @@ fn recording_holds_body_poses_for_every_frame() {
         frames_with(&chunks, "metrics/dislocation_cm/chain3", "scalars"),
         expected
     );
+    // the rod spine's centerline, material frames and scalars, every frame
+    assert_eq!(
+        frames_with(&chunks, "world/rod/rod/spine_rod/centerline", "strips"),
+        expected
+    );
+    assert_eq!(
+        frames_with(&chunks, "world/rod/rod/spine_rod/frames", "vectors"),
+        expected
+    );
+    assert_eq!(
+        frames_with(&chunks, "metrics/rod/rod/spine_rod/psi", "scalars"),
+        expected
+    );
+    assert_eq!(
+        frames_with(&chunks, "world/rod/bones/arc", "strips"),
+        expected
+    );
     // shapes are static
     assert!(chunks
         .iter()
