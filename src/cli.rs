@@ -67,10 +67,10 @@ pub struct OverrideArgs {
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     pub frames: Option<u32>,
     /// Spine of every ragdoll: chain3, rod or single.
-    #[arg(long)]
+    #[arg(long, value_parser = parse_choice::<SpineKind>)]
     pub spine: Option<SpineKind>,
     /// Ball-and-socket solver: cheap or exact.
-    #[arg(long)]
+    #[arg(long, value_parser = parse_choice::<JointFlavour>)]
     pub joint: Option<JointFlavour>,
     /// Rod bending relaxation alpha_b in [0, 1].
     #[arg(long, value_parser = unit_interval)]
@@ -79,8 +79,15 @@ pub struct OverrideArgs {
     #[arg(long, value_parser = unit_interval)]
     pub alpha_t: Option<f32>,
     /// Rod twist measure: exact or paper.
-    #[arg(long)]
+    #[arg(long, value_parser = parse_choice::<TwistMode>)]
     pub twist: Option<TwistMode>,
+}
+
+/// Parses a choice the way scene files spell it (the enum's serde names).
+fn parse_choice<T: serde::de::DeserializeOwned>(s: &str) -> Result<T, String> {
+    use serde::de::IntoDeserializer;
+    T::deserialize(s.into_deserializer())
+        .map_err(|e: serde::de::value::Error| e.to_string().replace('`', "\""))
 }
 
 fn unit_interval(s: &str) -> Result<f32, String> {

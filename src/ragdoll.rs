@@ -40,20 +40,6 @@ pub enum SpineKind {
     Single,
 }
 
-impl std::str::FromStr for SpineKind {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s {
-            "chain3" => Ok(Self::Chain3),
-            "rod" => Ok(Self::Rod),
-            "single" => Ok(Self::Single),
-            _ => Err(format!(
-                "unknown spine \"{s}\", expected one of chain3, rod, single"
-            )),
-        }
-    }
-}
-
 impl std::fmt::Display for SpineKind {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(match self {

@@ -38,19 +38,6 @@ pub enum JointFlavour {
     Exact,
 }
 
-impl std::str::FromStr for JointFlavour {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s {
-            "cheap" => Ok(Self::Cheap),
-            "exact" => Ok(Self::Exact),
-            _ => Err(format!(
-                "unknown joint flavour \"{s}\", expected one of cheap, exact"
-            )),
-        }
-    }
-}
-
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AngularSpring {
     /// Fraction of the angular error removed per iteration, in [0, 1].

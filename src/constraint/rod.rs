@@ -60,19 +60,6 @@ pub enum TwistMode {
     Paper,
 }
 
-impl std::str::FromStr for TwistMode {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s {
-            "exact" => Ok(Self::Exact),
-            "paper" => Ok(Self::Paper),
-            _ => Err(format!(
-                "unknown twist mode \"{s}\", expected one of exact, paper"
-            )),
-        }
-    }
-}
-
 #[derive(Clone, Debug)]
 pub struct Rod {
     pub name: String,

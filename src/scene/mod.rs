@@ -470,20 +470,7 @@ impl Scene {
         for (i, r) in d.rod.iter().enumerate() {
             check_name(&r.name, &names).map_err(|m| (at("rod", i, "name"), m))?;
             names.push(&r.name);
-            for (field, name) in [("a", &r.a), ("b", &r.b)] {
-                if !body_names.contains(&name.as_str()) {
-                    return Err((
-                        at("rod", i, field),
-                        format!(
-                            "unknown body \"{name}\", expected one of: {}",
-                            body_names.join(", ")
-                        ),
-                    ));
-                }
-            }
-            if r.a == r.b {
-                return Err((at("rod", i, "b"), "a rod needs two different bodies".into()));
-            }
+            check_pair(&r.a, &r.b, &body_names).map_err(|(f, m)| (at("rod", i, f), m))?;
             if let Some(l) = r.rest_length.filter(|l| !(*l > 0.0 && l.is_finite())) {
                 return Err((
                     at("rod", i, "rest_length"),
@@ -497,23 +484,7 @@ impl Scene {
         for (i, j) in d.joint.iter().enumerate() {
             check_name(&j.name, &joint_names_seen).map_err(|m| (at("joint", i, "name"), m))?;
             joint_names_seen.push(&j.name);
-            for (field, name) in [("a", &j.a), ("b", &j.b)] {
-                if !body_names.contains(&name.as_str()) {
-                    return Err((
-                        at("joint", i, field),
-                        format!(
-                            "unknown body \"{name}\", expected one of: {}",
-                            body_names.join(", ")
-                        ),
-                    ));
-                }
-            }
-            if j.a == j.b {
-                return Err((
-                    at("joint", i, "b"),
-                    "a joint needs two different bodies".into(),
-                ));
-            }
+            check_pair(&j.a, &j.b, &body_names).map_err(|(f, m)| (at("joint", i, f), m))?;
             check_relaxation(j.spring).map_err(|m| (at("joint", i, "spring"), m))?;
             if Vec3::from(j.axis).length() < 1e-6 {
                 return Err((at("joint", i, "axis"), "must be a non-zero vector".into()));
@@ -642,6 +613,23 @@ fn check_name(name: &str, seen: &[&str]) -> Result<(), String> {
     }
     if seen.contains(&name) {
         return Err(format!("duplicate name \"{name}\""));
+    }
+    Ok(())
+}
+
+/// The two ends of a joint or rod: known bodies, and not the same one.
+fn check_pair(a: &str, b: &str, body_names: &[&str]) -> Result<(), (&'static str, String)> {
+    for (field, name) in [("a", a), ("b", b)] {
+        if !body_names.contains(&name) {
+            let known = body_names.join(", ");
+            return Err((
+                field,
+                format!("unknown body \"{name}\", expected one of: {known}"),
+            ));
+        }
+    }
+    if a == b {
+        return Err(("b", "needs two different bodies".into()));
     }
     Ok(())
 }
