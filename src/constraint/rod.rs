@@ -184,9 +184,8 @@ impl Rod {
         let (fa, fb) = self.frames(a, b);
         let (ta, tb) = (fa * Vec3::X, fb * Vec3::X);
         let (pa, pb) = (a.preview_position, b.preview_position);
-        let c = curve_error(pa, ta, pb, tb);
+        let (c, g) = curve_projection(pa, ta, pb, tb);
         if c > 1e-7 {
-            let g = curve_gradient(pa, ta, pb, tb);
             let w = (a.inverse_mass + b.inverse_mass) * g.p_b.length_squared()
                 + a.angular_inverse_mass_unnormalised(g.theta_a)
                 + b.angular_inverse_mass_unnormalised(g.theta_b);
@@ -289,8 +288,7 @@ pub fn curve_vector(pa: Vec3, ta: Vec3, pb: Vec3, tb: Vec3) -> Vec3 {
 
 /// Angle (rad) between t_b and the reflection `S t_a` of t_a about o^: the scalar form of eq. 6.
 pub fn curve_error(pa: Vec3, ta: Vec3, pb: Vec3, tb: Vec3) -> f32 {
-    let o = offset_axis(pa, pb, ta);
-    angle_between(tb, 2.0 * ta.dot(o) * o - ta)
+    curve_projection(pa, ta, pb, tb).0
 }
 
 /// eq. 9: `|p_b - p_a| - 2 l_0 sin(psi/2) / psi`.
@@ -308,28 +306,42 @@ pub struct CurveGradient {
 }
 
 pub fn curve_gradient(pa: Vec3, ta: Vec3, pb: Vec3, tb: Vec3) -> CurveGradient {
+    curve_projection(pa, ta, pb, tb).1
+}
+
+/// [`curve_error`] and [`curve_gradient`] together, sharing the geometry (§7).
+pub fn curve_projection(pa: Vec3, ta: Vec3, pb: Vec3, tb: Vec3) -> (f32, CurveGradient) {
     let offset = pb - pa;
     let distance = offset.length();
-    let o = offset_axis(pa, pb, ta);
-    let r = 2.0 * ta.dot(o) * o - ta;
-    let n = tb
-        .cross(r)
-        .try_normalize()
-        .unwrap_or_else(|| any_perpendicular(tb));
-    let m = n.cross(r);
+    let o = if distance > 1e-12 {
+        offset / distance
+    } else {
+        ta
+    };
     let reflect = |v: Vec3| 2.0 * v.dot(o) * o - v;
+    let r = reflect(ta);
+    let cross = tb.cross(r);
+    let sin = cross.length();
+    let error = sin.atan2(tb.dot(r));
+    let n = if sin > 1e-12 {
+        cross / sin
+    } else {
+        any_perpendicular(tb)
+    };
+    let m = n.cross(r);
     let g_o = if distance > 1e-6 {
         let v = ta.dot(o) * m + m.dot(o) * ta;
         (2.0 / distance) * (v - v.dot(o) * o)
     } else {
         Vec3::ZERO
     };
-    CurveGradient {
+    let gradient = CurveGradient {
         p_a: -g_o,
         theta_a: reflect(n),
         p_b: g_o,
         theta_b: -n,
-    }
+    };
+    (error, gradient)
 }
 
 /// A point of the arc from p_a with tangent t_a bent toward t_b, length `rest_length`, s in [0, 1].
