@@ -236,11 +236,11 @@ fn run_one(
     let scene = load_scene(path, overrides)?;
     let name = scene.name();
     let (rec, _serve_guard) = if sink_given {
-        rerun_args.init_with_blueprint(record::APPLICATION_ID, record::blueprint())?
+        rerun_args.init_with_blueprint(record::APPLICATION_ID, record::blueprint(&scene))?
     } else {
         let out = Path::new("recordings").join(format!("{name}.rrd"));
         eprintln!("recording to {}", out.display());
-        (record::save_to(&out, &name)?, Default::default())
+        (record::save_to(&out, &scene)?, Default::default())
     };
     let report = record_scene(&scene, rec)?;
     print_summary(&name, &scene, &report);
@@ -265,7 +265,7 @@ fn run_all(scenes_dir: &Path, out_dir: &Path, overrides: &Overrides) -> anyhow::
             let name = scene.name();
             let out = out_dir.join(format!("{name}.rrd"));
             let started = std::time::Instant::now();
-            let report = record_scene(&scene, record::save_to(&out, &name)?)?;
+            let report = record_scene(&scene, record::save_to(&out, &scene)?)?;
             print_summary(&name, &scene, &report);
             println!(
                 "  -> {} ({:.1} s)",

@@ -42,17 +42,30 @@ pub const APPLICATION_ID: &str = "rodlab";
 /// Flush the file sink this often, so a run cut short leaves a readable recording.
 const FLUSH_EVERY_FRAMES: u64 = 30;
 
-/// The default layout: the 3D scene beside the residual and energy plots.
-pub fn blueprint() -> Blueprint {
-    let plots = Vertical::new([
-        ContainerLike::from(
-            TimeSeriesView::new("Dislocation (cm)").with_origin("metrics/dislocation_cm"),
-        ),
-        ContainerLike::from(
-            TimeSeriesView::new("Angular violation (rad)").with_origin("metrics/angular_rad"),
-        ),
-        ContainerLike::from(TimeSeriesView::new("Energy (J)").with_origin("metrics/energy")),
-    ]);
+/// The layout for a scene: the 3D view beside its plots (residuals, then tabs for energy, pose
+/// deviation, rod scalars and bone errors; for the kinematics scene, the end gaps).
+pub fn blueprint(scene: &Scene) -> Blueprint {
+    let series = |name: &str, origin: &str| {
+        ContainerLike::from(TimeSeriesView::new(name).with_origin(origin))
+    };
+    let plots = if scene.def.kinematics.is_some() {
+        Vertical::new([
+            series("End gap from the rod (cm)", "metrics/end_gap_cm"),
+            series("Bend (rad)", "metrics/bend_rad"),
+        ])
+    } else {
+        let more = Tabs::new([
+            series("Energy (J)", "metrics/energy"),
+            series("Pose deviation (cm)", "metrics/pose_deviation_cm"),
+            series("Rod", "metrics/rod"),
+            series("Bones (cm)", "metrics/bones"),
+        ]);
+        Vertical::new([
+            series("Dislocation (cm)", "metrics/dislocation_cm"),
+            series("Angular violation (rad)", "metrics/angular_rad"),
+            ContainerLike::from(more),
+        ])
+    };
     let left = Tabs::new([
         ContainerLike::from(Spatial3DView::new("Scene").with_origin("world")),
         ContainerLike::from(TextDocumentView::new("Scene file").with_origin("scene")),
@@ -64,14 +77,14 @@ pub fn blueprint() -> Blueprint {
     .with_auto_views(false)
 }
 
-/// Opens a recording that writes to `path` (creating its folder), with the default blueprint.
-pub fn save_to(path: &Path, recording_name: &str) -> anyhow::Result<RecordingStream> {
+/// Opens a recording of `scene` that writes to `path` (creating its folder), with its blueprint.
+pub fn save_to(path: &Path, scene: &Scene) -> anyhow::Result<RecordingStream> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir)?;
     }
     let rec = rerun::RecordingStreamBuilder::new(APPLICATION_ID)
-        .recording_name(recording_name)
-        .with_blueprint(blueprint())
+        .recording_name(scene.name())
+        .with_blueprint(blueprint(scene))
         .save(path)?;
     Ok(rec)
 }

@@ -66,7 +66,7 @@ fn recording_holds_body_poses_for_every_frame() {
         ..Default::default()
     }
     .apply(&mut scene.def);
-    let report = record_scene(&scene, record::save_to(&path, "passive_bending").unwrap()).unwrap();
+    let report = record_scene(&scene, record::save_to(&path, &scene).unwrap()).unwrap();
     assert_eq!(report.frames, 40);
     let chunks = decode(&path);
     let expected: BTreeSet<i64> = (0..=40).collect();
@@ -138,8 +138,7 @@ fn explosion_names_body_constraint_and_frame_and_keeps_the_recording() {
     let path = temp_path("explode.rrd");
     let mut scene = Scene::parse("explode.toml", EXPLODING).unwrap();
     scene.def.max_speed = 30.0;
-    let err =
-        record_scene(&scene, record::save_to(&path, "explode").unwrap()).expect_err("must stop");
+    let err = record_scene(&scene, record::save_to(&path, &scene).unwrap()).expect_err("must stop");
     let text = format!("{err:#}");
     assert!(
         text.contains("body \"bob\"") && text.contains("\"rope\"") && text.contains("frame 1:"),
