@@ -43,6 +43,12 @@ pub struct Body {
     pub angular_velocity: Vec3,
     /// External force applied every step until changed (N), on top of gravity.
     pub external_force: Vec3,
+    /// Coulomb friction coefficients (combined per pair as geometric means).
+    pub static_friction: f32,
+    pub dynamic_friction: f32,
+    /// Collision filter: a pair collides if each one's group bits meet the other's mask bits.
+    pub collision_group: u32,
+    pub collision_mask: u32,
     // --- Derived solver data (kept current by the solver) ---
     pub(crate) inverse_mass: f32,
     pub(crate) inverse_inertia_body: Vec3,
@@ -68,6 +74,10 @@ impl Body {
             linear_velocity: Vec3::ZERO,
             angular_velocity: Vec3::ZERO,
             external_force: Vec3::ZERO,
+            static_friction: 0.6,
+            dynamic_friction: 0.5,
+            collision_group: 1,
+            collision_mask: u32::MAX,
             inverse_mass: if dynamic { 1.0 / mass } else { 0.0 },
             inverse_inertia_body: if dynamic { inertia.recip() } else { Vec3::ZERO },
             inverse_inertia_world: Mat3::ZERO,

@@ -14,6 +14,7 @@
 //! - [`math`]: glam re-exports, exponential map, swing-twist helpers;
 //! - [`shape`], [`body`]: shapes, mass and inertia, rigid bodies;
 //! - [`constraint`]: one file per constraint kind, dispatched by one `match`;
+//! - [`contact`]: broad phase, narrow phase and contact points with friction;
 //! - [`solver`]: the step, its order written as a numbered list;
 //! - [`world`]: bodies + constraints + settings, failure detection;
 //! - [`ragdoll`]: the reference humanoid builder (spines chain3 | single | rod);
@@ -27,6 +28,7 @@
 pub mod body;
 pub mod cli;
 pub mod constraint;
+pub mod contact;
 pub mod kinematics;
 pub mod math;
 pub mod metrics;

@@ -149,6 +149,7 @@ impl Recorder {
                 Shape::Capsule { .. } => "capsules",
                 Shape::Sphere { .. } => "spheres",
                 Shape::Cuboid { .. } => "boxes",
+                Shape::HalfSpace => continue, // static, drawn once in `log_static`
             };
             let entity = format!("world/{}/{kind}", group_of(world, id));
             let offset = match body.shape {
@@ -243,6 +244,24 @@ impl Recorder {
             scene.text
         );
         rec.log_static("scene", &rerun::TextDocument::from_markdown(text))?;
+        // Half-spaces: a 10 m square slab under each plane.
+        for body in world
+            .bodies
+            .iter()
+            .filter(|b| matches!(b.shape, Shape::HalfSpace))
+        {
+            let normal = body.orientation * Vec3::Y;
+            rec.log_static(
+                format!("world/static/{}", body.name),
+                &rerun::Boxes3D::from_centers_and_half_sizes(
+                    [(body.position - 0.01 * normal).to_array()],
+                    [[5.0, 0.01, 5.0]],
+                )
+                .with_quaternions([rerun::Quaternion::from_xyzw(body.orientation.to_array())])
+                .with_colors([rerun::Color::from_rgb(150, 150, 140)])
+                .with_fill_mode(rerun::components::FillMode::Solid),
+            )?;
+        }
         // Ground grid reference: a thin floor outline at y = 0.
         rec.log_static(
             "world/floor",
@@ -299,6 +318,7 @@ impl Recorder {
                             .with_show_labels(false),
                     )?;
                 }
+                Shape::HalfSpace => unreachable!("half-spaces are not batched"),
                 Shape::Sphere { .. } => {
                     let radii: Vec<f32> = batch
                         .bodies
@@ -372,6 +392,7 @@ impl Recorder {
                             .with_translations(batch.translations.iter().copied())
                             .with_quaternions(batch.rotations.iter().copied()),
                     )?,
+                    Shape::HalfSpace => unreachable!("half-spaces are not batched"),
                     Shape::Sphere { .. } => rec.log(
                         entity,
                         &rerun::Ellipsoids3D::update_fields()

@@ -37,6 +37,9 @@ pub enum Shape {
     Cuboid {
         half_extents: Vec3,
     },
+    /// The solid below the plane through the body's origin with normal `+Y` (body space); for
+    /// fixed bodies only (floors, ramps).
+    HalfSpace,
 }
 
 impl Shape {
@@ -50,12 +53,14 @@ impl Shape {
                 ..
             } => PI * radius * radius * 2.0 * half_height + 4.0 / 3.0 * PI * radius.powi(3),
             Shape::Cuboid { half_extents: h } => 8.0 * h.x * h.y * h.z,
+            Shape::HalfSpace => f32::INFINITY,
         }
     }
 
     /// Principal moments of inertia (body axes) for uniform density and total `mass`.
     pub fn principal_inertia(&self, mass: f32) -> Vec3 {
         match *self {
+            Shape::HalfSpace => Vec3::ZERO, // fixed bodies only: never inverted
             Shape::Sphere { radius } => Vec3::splat(0.4 * mass * radius * radius),
             Shape::Cuboid { half_extents: h } => {
                 let (x2, y2, z2) = (4.0 * h.x * h.x, 4.0 * h.y * h.y, 4.0 * h.z * h.z);
@@ -96,6 +101,7 @@ impl Shape {
                 ..
             } => half_height + radius,
             Shape::Cuboid { half_extents } => half_extents.length(),
+            Shape::HalfSpace => f32::INFINITY,
         }
     }
 }

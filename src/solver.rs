@@ -10,10 +10,11 @@
 //! Step order, one frame of `dt`:
 //! 1. apply gravity and external forces to the linear velocities; update angular velocities
 //!    with the gyroscopic term (implicit, see [`gyroscopic_update`]);
-//! 2. predict the preview poses `p* = p + dt v`, `q* = exp(dt w) q` (exact exponential map),
-//!    and refresh each body's world inverse inertia at the preview orientation;
-//! 3. `iterations` times: solve every constraint once, in their stored order (joints, then
-//!    rods, then targets, then contacts, as the world builders append them);
+//! 2. find the contact points at the current poses (speculative, when contacts are on); predict
+//!    the preview poses `p* = p + dt v`, `q* = exp(dt w) q` (exact exponential map), and refresh
+//!    each body's world inverse inertia at the preview orientation;
+//! 3. `iterations` times: solve every constraint once in its stored order (joints, rods and
+//!    targets as the builders appended them), then every contact point;
 //! 4. derive the velocities `v = (p* - p) / dt`, `w = log(q* q^-1) / dt` and commit the poses;
 //! 5. check every body for NaN and for speeds above the explosion bounds, then the caller
 //!    measures residuals on the final poses (paper Fig. 8).
@@ -33,7 +34,13 @@ pub fn step(world: &mut World) -> Result<(), SimulationError> {
         body.linear_velocity += dt * (gravity + body.external_force * body.inverse_mass);
         body.angular_velocity = gyroscopic_update(body, dt);
     }
-    // 2. preview poses
+    // 2. contacts at the current poses, then preview poses
+    if world.settings.contacts {
+        let margin = world.settings.contact_margin;
+        world
+            .contacts
+            .detect(&world.bodies, &world.constraints, dt, margin);
+    }
     for body in world
         .bodies
         .iter_mut()
@@ -49,6 +56,7 @@ pub fn step(world: &mut World) -> Result<(), SimulationError> {
         for constraint in &world.constraints {
             constraint.solve(&mut world.bodies);
         }
+        world.contacts.solve(&mut world.bodies);
     }
     // 4. velocities from the corrected previews
     for body in world.bodies.iter_mut().filter(|b| b.is_dynamic()) {

@@ -2,6 +2,7 @@
 
 use crate::body::{Body, BodyId};
 use crate::constraint::Constraint;
+use crate::contact::Contacts;
 use crate::math::Vec3;
 use crate::ragdoll::Ragdoll;
 
@@ -17,6 +18,10 @@ pub struct Settings {
     pub max_linear_speed: f32,
     /// A dynamic body spinning faster than this (rad/s) counts as exploded.
     pub max_angular_speed: f32,
+    /// Whether bodies collide. Off, the step does no collision work at all.
+    pub contacts: bool,
+    /// Contact points are made this far (m) before the surfaces touch.
+    pub contact_margin: f32,
 }
 
 impl Default for Settings {
@@ -27,6 +32,8 @@ impl Default for Settings {
             iterations: 20,
             max_linear_speed: DEFAULT_MAX_LINEAR_SPEED,
             max_angular_speed: DEFAULT_MAX_ANGULAR_SPEED,
+            contacts: false,
+            contact_margin: 0.02,
         }
     }
 }
@@ -43,6 +50,7 @@ pub struct World {
     pub bodies: Vec<Body>,
     pub constraints: Vec<Constraint>,
     pub ragdolls: Vec<Ragdoll>,
+    pub contacts: Contacts,
     /// Frames stepped so far.
     pub frame: u64,
     /// Simulated time (s).

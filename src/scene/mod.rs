@@ -50,6 +50,12 @@ pub struct SceneDef {
     pub body: Vec<BodyDef>,
     #[serde(default)]
     pub joint: Vec<JointDef>,
+    /// Whether bodies collide (off: no collision work at all).
+    #[serde(default)]
+    pub contacts: bool,
+    /// Contact points are made this far (m) before the surfaces touch.
+    #[serde(default = "default_contact_margin")]
+    pub contact_margin: f32,
     /// Print a residual row every this many frames (0: only the summary).
     #[serde(default)]
     pub report_every: u32,
@@ -104,6 +110,9 @@ pub struct KinematicsDef {
     pub max_bend: f32,
 }
 
+fn default_contact_margin() -> f32 {
+    0.02
+}
 fn default_spine_length() -> f32 {
     0.385
 }
@@ -217,6 +226,8 @@ pub enum ShapeKind {
     Sphere,
     Capsule,
     Box,
+    /// A half-space below the plane through `position` with normal `rotation * +Y`; fixed only.
+    Plane,
 }
 
 #[derive(Clone, Debug, Deserialize)]
@@ -247,6 +258,12 @@ pub struct BodyDef {
     pub velocity: [f32; 3],
     #[serde(default)]
     pub angular_velocity: [f32; 3],
+    /// Coulomb friction coefficients (default 0.6 static, 0.5 dynamic).
+    pub static_friction: Option<f32>,
+    pub dynamic_friction: Option<f32>,
+    /// Collision filter bits (default group 1, mask all).
+    pub collision_group: Option<u32>,
+    pub collision_mask: Option<u32>,
 }
 
 #[derive(Clone, Debug, Deserialize)]
@@ -520,6 +537,8 @@ impl Scene {
             iterations: d.iterations,
             max_linear_speed: d.max_speed,
             max_angular_speed: d.max_angular_speed,
+            contacts: d.contacts,
+            contact_margin: d.contact_margin,
         });
         for (i, r) in d.ragdoll.iter().enumerate() {
             let spec = HumanoidSpec {
@@ -665,6 +684,18 @@ fn check_body(b: &BodyDef) -> Result<(), (&'static str, String)> {
             }
             Some(_) => {}
         },
+        ShapeKind::Plane if b.kind != KindDef::Fixed => {
+            return Err(("kind", "a plane (half-space) must be fixed".into()))
+        }
+        ShapeKind::Plane => {}
+    }
+    for (field, value) in [
+        ("static_friction", b.static_friction),
+        ("dynamic_friction", b.dynamic_friction),
+    ] {
+        if matches!(value, Some(mu) if !(mu >= 0.0 && mu.is_finite())) {
+            return Err((field, "must be a non-negative number".into()));
+        }
     }
     if b.kind == KindDef::Dynamic {
         match (b.mass, b.density) {
@@ -703,6 +734,7 @@ fn build_body(b: &BodyDef) -> Body {
         ShapeKind::Box => Shape::Cuboid {
             half_extents: Vec3::from(b.half_extents.unwrap()),
         },
+        ShapeKind::Plane => Shape::HalfSpace,
     };
     let kind = match b.kind {
         KindDef::Dynamic => BodyKind::Dynamic,
@@ -718,6 +750,10 @@ fn build_body(b: &BodyDef) -> Body {
         body.linear_velocity = Vec3::from(b.velocity);
         body.angular_velocity = Vec3::from(b.angular_velocity);
     }
+    body.static_friction = b.static_friction.unwrap_or(body.static_friction);
+    body.dynamic_friction = b.dynamic_friction.unwrap_or(body.dynamic_friction);
+    body.collision_group = b.collision_group.unwrap_or(body.collision_group);
+    body.collision_mask = b.collision_mask.unwrap_or(body.collision_mask);
     body
 }
 

@@ -1,0 +1,182 @@
+//! Contacts, solved in the same iteration loop as the joints (position level).
+//!
+//! Detection is speculative: pairs are found at the current poses (step 2 of the solver) within
+//! a margin grown by how far the bodies may travel this step, so fast bodies meet thin ones
+//! before they could pass. Each contact point keeps its world normal `n` (from a to b) and its
+//! two surface points in body space for the step; each iteration measures the separation
+//! `C = (p_b - p_a) . n` at the preview poses and, when negative, pushes the points apart
+//! along `n` (non-penetration, `C >= 0`).
+//!
+//! Coulomb friction at position level: the tangential slip of the two points since the step
+//! began is removed while the friction impulse stays within `mu_s` times the normal impulse
+//! accumulated this step (sticking); beyond that at most `mu_d` times it is applied (sliding),
+//! so a block on a slope accelerates at `g (sin theta - mu_d cos theta)`. Friction coefficients
+//! combine as the geometric mean. Restitution is not modelled yet (inelastic contacts).
+//!
+//! Filtering: bodies joined by a joint (unless `collide_connected`) or a rod never collide, and
+//! a pair collides only if each body's group bits meet the other's mask bits.
+
+pub mod broadphase;
+pub mod narrowphase;
+
+use crate::body::{Body, BodyId};
+use crate::constraint::{parts::pair_mut, Constraint};
+use crate::math::Vec3;
+use broadphase::BroadPhase;
+use narrowphase::Feature;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactPoint {
+    pub body_a: BodyId,
+    pub body_b: BodyId,
+    /// World normal from a to b, fixed for the step.
+    pub normal: Vec3,
+    /// Surface points in body space.
+    pub local_a: Vec3,
+    pub local_b: Vec3,
+    pub static_friction: f32,
+    pub dynamic_friction: f32,
+    /// Positional impulses accumulated this step (kg m).
+    normal_impulse: f32,
+    friction_impulse: f32,
+}
+
+impl ContactPoint {
+    /// Separation (m) of the two points along the normal at the preview poses.
+    pub fn separation(&self, a: &Body, b: &Body) -> f32 {
+        (b.preview_point(self.local_b) - a.preview_point(self.local_a)).dot(self.normal)
+    }
+
+    pub fn solve(&mut self, a: &mut Body, b: &mut Body) {
+        let n = self.normal;
+        let ra = a.preview_orientation * self.local_a;
+        let rb = b.preview_orientation * self.local_b;
+        let separation = ((b.preview_position + rb) - (a.preview_position + ra)).dot(n);
+        if separation < 0.0 {
+            let w = a.positional_inverse_mass(ra, n) + b.positional_inverse_mass(rb, n);
+            if w > 0.0 {
+                let lambda = -separation / w;
+                a.apply_positional_impulse(-lambda * n, ra);
+                b.apply_positional_impulse(lambda * n, rb);
+                self.normal_impulse += lambda;
+            }
+        }
+        if self.normal_impulse <= 0.0 {
+            return;
+        }
+        // friction: tangential slip of the points since the step began
+        let ra = a.preview_orientation * self.local_a;
+        let rb = b.preview_orientation * self.local_b;
+        let moved_a = (a.preview_position + ra) - a.world_point(self.local_a);
+        let moved_b = (b.preview_position + rb) - b.world_point(self.local_b);
+        let slip = moved_b - moved_a;
+        let tangential = slip - slip.dot(n) * n;
+        let length = tangential.length();
+        if length < 1e-9 {
+            return;
+        }
+        let t = tangential / length;
+        let w = a.positional_inverse_mass(ra, t) + b.positional_inverse_mass(rb, t);
+        if w <= 0.0 {
+            return;
+        }
+        let needed = length / w;
+        let applied = if self.friction_impulse + needed
+            <= self.static_friction * self.normal_impulse
+        {
+            needed
+        } else {
+            (self.dynamic_friction * self.normal_impulse - self.friction_impulse).clamp(0.0, needed)
+        };
+        if applied > 0.0 {
+            a.apply_positional_impulse(applied * t, ra);
+            b.apply_positional_impulse(-applied * t, rb);
+            self.friction_impulse += applied;
+        }
+    }
+}
+
+/// The contacts of a world and the storage to find them, reused from step to step.
+#[derive(Clone, Debug, Default)]
+pub struct Contacts {
+    pub points: Vec<ContactPoint>,
+    broad_phase: BroadPhase,
+    features: Vec<Feature>,
+    pairs: Vec<(u32, u32)>,
+    /// Sorted body pairs that never collide, and the constraint count they were built for.
+    excluded: Vec<(u32, u32)>,
+    excluded_for: usize,
+}
+
+impl Contacts {
+    /// Step 2 of the solver: finds the contact points at the current poses.
+    pub fn detect(&mut self, bodies: &[Body], constraints: &[Constraint], dt: f32, margin: f32) {
+        if self.excluded_for != constraints.len()
+            || self.excluded.is_empty() && !constraints.is_empty()
+        {
+            self.excluded.clear();
+            for c in constraints {
+                let connected = matches!(c, Constraint::BallSocket(j) if j.collide_connected);
+                if !connected {
+                    let (a, b) = c.bodies();
+                    self.excluded.push((a.0.min(b.0), a.0.max(b.0)));
+                }
+            }
+            self.excluded.sort_unstable();
+            self.excluded_for = constraints.len();
+        }
+        self.points.clear();
+        self.pairs.clear();
+        let pairs = &mut self.pairs;
+        self.broad_phase
+            .find_pairs(bodies, dt, margin, |a, b| pairs.push((a, b)));
+        for &(a, b) in &self.pairs {
+            let key = (a.min(b), a.max(b));
+            if self.excluded.binary_search(&key).is_ok() {
+                continue;
+            }
+            let (body_a, body_b) = (&bodies[a as usize], &bodies[b as usize]);
+            if body_a.collision_group & body_b.collision_mask == 0
+                || body_b.collision_group & body_a.collision_mask == 0
+            {
+                continue;
+            }
+            let reach = margin + dt * (body_a.linear_velocity - body_b.linear_velocity).length();
+            self.features.clear();
+            if !narrowphase::collide(body_a, body_b, reach, &mut self.features) {
+                continue;
+            }
+            let static_friction = (body_a.static_friction * body_b.static_friction).sqrt();
+            let dynamic_friction = (body_a.dynamic_friction * body_b.dynamic_friction).sqrt();
+            for f in &self.features {
+                self.points.push(ContactPoint {
+                    body_a: BodyId(a),
+                    body_b: BodyId(b),
+                    normal: f.normal,
+                    local_a: body_a.orientation.inverse() * (f.point_a - body_a.position),
+                    local_b: body_b.orientation.inverse() * (f.point_b - body_b.position),
+                    static_friction,
+                    dynamic_friction,
+                    normal_impulse: 0.0,
+                    friction_impulse: 0.0,
+                });
+            }
+        }
+    }
+
+    /// One iteration over all contact points.
+    pub fn solve(&mut self, bodies: &mut [Body]) {
+        for point in &mut self.points {
+            let (a, b) = pair_mut(bodies, point.body_a.index(), point.body_b.index());
+            point.solve(a, b);
+        }
+    }
+
+    /// Deepest penetration (m) among the contact points at the current poses.
+    pub fn max_penetration(&self, bodies: &[Body]) -> f32 {
+        self.points
+            .iter()
+            .map(|p| -p.separation(&bodies[p.body_a.index()], &bodies[p.body_b.index()]))
+            .fold(0.0, f32::max)
+    }
+}

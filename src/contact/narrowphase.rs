@@ -1,0 +1,157 @@
+//! Narrow phase: closest features of a pair of shapes at the current poses, turned into contact
+//! points. Spheres are capsules of zero length, so three routines cover sphere, capsule and
+//! half-space in every combination. Boxes are not handled yet.
+
+use crate::body::Body;
+use crate::math::Vec3;
+use crate::shape::Shape;
+
+/// A contact found between bodies a and b: world normal from a to b, world points on each
+/// surface, and their separation along the normal (negative when penetrating).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Feature {
+    pub normal: Vec3,
+    pub point_a: Vec3,
+    pub point_b: Vec3,
+    pub separation: f32,
+}
+
+/// World segment (cap centres) and radius of a sphere or capsule.
+pub fn segment(body: &Body) -> Option<(Vec3, Vec3, f32)> {
+    match body.shape {
+        Shape::Sphere { radius } => Some((body.position, body.position, radius)),
+        Shape::Capsule {
+            half_height,
+            radius,
+            axis,
+        } => {
+            let half = body.orientation * (half_height * axis.unit());
+            Some((body.position - half, body.position + half, radius))
+        }
+        _ => None,
+    }
+}
+
+/// Closest points between segments [p0, p1] and [q0, q1] (Ericson, Real-Time Collision
+/// Detection, 5.1.9), robust for points and parallel segments.
+pub fn closest_points_on_segments(p0: Vec3, p1: Vec3, q0: Vec3, q1: Vec3) -> (Vec3, Vec3) {
+    let (d1, d2, r) = (p1 - p0, q1 - q0, p0 - q0);
+    let (a, e, f) = (d1.length_squared(), d2.length_squared(), d2.dot(r));
+    const EPS: f32 = 1e-12;
+    let (s, t) = if a <= EPS && e <= EPS {
+        (0.0, 0.0)
+    } else if a <= EPS {
+        (0.0, (f / e).clamp(0.0, 1.0))
+    } else {
+        let c = d1.dot(r);
+        if e <= EPS {
+            ((-c / a).clamp(0.0, 1.0), 0.0)
+        } else {
+            let b = d1.dot(d2);
+            let denom = a * e - b * b;
+            let mut s = if denom > EPS {
+                ((b * f - c * e) / denom).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let mut t = (b * s + f) / e;
+            if t < 0.0 {
+                t = 0.0;
+                s = (-c / a).clamp(0.0, 1.0);
+            } else if t > 1.0 {
+                t = 1.0;
+                s = ((b - c) / a).clamp(0.0, 1.0);
+            }
+            (s, t)
+        }
+    };
+    (p0 + s * d1, q0 + t * d2)
+}
+
+/// Sphere/capsule against sphere/capsule: one point at the closest features, two when the
+/// segments are parallel and overlap (so a capsule lying on another does not rock).
+pub fn capsule_capsule(a: &Body, b: &Body, margin: f32, out: &mut Vec<Feature>) {
+    let (Some((a0, a1, ra)), Some((b0, b1, rb))) = (segment(a), segment(b)) else {
+        return;
+    };
+    let mut push = |pa: Vec3, pb: Vec3| {
+        let delta = pb - pa;
+        let distance = delta.length();
+        let normal = if distance > 1e-9 {
+            delta / distance
+        } else {
+            (b.position - a.position).try_normalize().unwrap_or(Vec3::Y)
+        };
+        let separation = distance - ra - rb;
+        if separation < margin {
+            out.push(Feature {
+                normal,
+                point_a: pa + ra * normal,
+                point_b: pb - rb * normal,
+                separation,
+            });
+        }
+    };
+    let (da, db) = (a1 - a0, b1 - b0);
+    let parallel = da.length_squared() > 1e-12
+        && db.length_squared() > 1e-12
+        && da.normalize().cross(db.normalize()).length() < 1e-3;
+    if parallel {
+        // the two ends of the overlap of b's segment projected on a's
+        let axis = da.normalize();
+        let project = |p: Vec3| (p - a0).dot(axis).clamp(0.0, da.length());
+        let (s0, s1) = (project(b0), project(b1));
+        if (s0 - s1).abs() > 1e-6 {
+            for s in [s0, s1] {
+                let pa = a0 + s * axis;
+                let (_, pb) = closest_points_on_segments(pa, pa, b0, b1);
+                push(pa, pb);
+            }
+            return;
+        }
+    }
+    let (pa, pb) = closest_points_on_segments(a0, a1, b0, b1);
+    push(pa, pb);
+}
+
+/// Half-space (body a: the plane through its position with normal `orientation * +Y`, solid
+/// below) against a sphere or capsule: one point per cap centre within reach.
+pub fn half_space_capsule(plane: &Body, b: &Body, margin: f32, out: &mut Vec<Feature>) {
+    let Some((b0, b1, rb)) = segment(b) else {
+        return;
+    };
+    let normal = plane.orientation * Vec3::Y;
+    let ends: &[Vec3] = if (b1 - b0).length_squared() < 1e-12 {
+        &[b0]
+    } else {
+        &[b0, b1]
+    };
+    for &c in ends {
+        let height = (c - plane.position).dot(normal);
+        let separation = height - rb;
+        if separation < margin {
+            out.push(Feature {
+                normal,
+                point_a: c - height * normal,
+                point_b: c - rb * normal,
+                separation,
+            });
+        }
+    }
+}
+
+/// Contacts between two bodies at their current poses, within `margin`.
+pub fn collide(a: &Body, b: &Body, margin: f32, out: &mut Vec<Feature>) -> bool {
+    let before = out.len();
+    match (&a.shape, &b.shape) {
+        (Shape::HalfSpace, Shape::Sphere { .. } | Shape::Capsule { .. }) => {
+            half_space_capsule(a, b, margin, out)
+        }
+        (
+            Shape::Sphere { .. } | Shape::Capsule { .. },
+            Shape::Sphere { .. } | Shape::Capsule { .. },
+        ) => capsule_capsule(a, b, margin, out),
+        _ => {}
+    }
+    out.len() > before
+}

@@ -1,0 +1,199 @@
+//! Contacts (first part of the contacts issue): resting, Coulomb friction on a ramp against the
+//! analytic acceleration, speculative contacts against tunnelling, and collision filtering.
+
+use rodlab::body::{Body, BodyKind};
+use rodlab::math::{Quat, Vec3};
+use rodlab::ragdoll::{build_humanoid, HumanoidSpec, SpineKind};
+use rodlab::shape::{Axis, Shape};
+use rodlab::world::{Settings, World};
+
+fn settings() -> Settings {
+    Settings {
+        contacts: true,
+        ..Settings::default()
+    }
+}
+
+fn plane(world: &mut World, rotation: Quat) {
+    world.add_body(
+        Body::new("floor", BodyKind::Fixed, Shape::HalfSpace, 1.0).with_pose(Vec3::ZERO, rotation),
+    );
+}
+
+#[test]
+fn sphere_rests_on_a_plane() {
+    let mut world = World::new(settings());
+    plane(&mut world, Quat::IDENTITY);
+    let ball = world.add_body(
+        Body::new(
+            "ball",
+            BodyKind::Dynamic,
+            Shape::Sphere { radius: 0.1 },
+            1.0,
+        )
+        .with_pose(Vec3::new(0.0, 0.1, 0.0), Quat::IDENTITY),
+    );
+    for frame in 0..600 {
+        world.step().unwrap();
+        let p = world.body(ball).position;
+        let penetration = 0.1 - p.y;
+        assert!(
+            penetration < 1e-3,
+            "frame {frame}: penetration {penetration} m"
+        );
+        assert!(
+            Vec3::new(p.x, 0.0, p.z).length() < 1e-3,
+            "frame {frame}: drifted to {p}"
+        );
+    }
+    assert!(world.body(ball).linear_velocity.length() < 1e-3);
+}
+
+/// A capsule lying along a ramp inclined by `theta`: its acceleration along the slope after 1 s.
+fn ramp_acceleration(theta: f32, static_friction: f32, dynamic_friction: f32) -> f32 {
+    let mut world = World::new(settings());
+    let tilt = Quat::from_rotation_z(theta);
+    plane(&mut world, tilt);
+    let radius = 0.05;
+    let mut capsule = Body::new(
+        "log",
+        BodyKind::Dynamic,
+        Shape::Capsule {
+            half_height: 0.2,
+            radius,
+            axis: Axis::X,
+        },
+        2.0,
+    )
+    .with_pose(tilt * Vec3::new(0.0, radius, 0.0), tilt);
+    capsule.static_friction = static_friction;
+    capsule.dynamic_friction = dynamic_friction;
+    let id = world.add_body(capsule);
+    world.bodies[0].static_friction = static_friction;
+    world.bodies[0].dynamic_friction = dynamic_friction;
+    let down_slope = tilt * -Vec3::X;
+    let speed = |w: &World| w.body(id).linear_velocity.dot(down_slope);
+    for _ in 0..30 {
+        world.step().unwrap();
+    }
+    let (v0, t0) = (speed(&world), world.time);
+    for _ in 0..60 {
+        world.step().unwrap();
+    }
+    (speed(&world) - v0) / (world.time - t0) as f32
+}
+
+#[test]
+fn capsule_sticks_when_the_slope_is_below_the_friction_angle() {
+    // tan(20 deg) = 0.36 < mu_s = 0.5
+    let a = ramp_acceleration(20f32.to_radians(), 0.5, 0.4);
+    assert!(a.abs() < 0.01, "acceleration {a} m/s^2");
+}
+
+#[test]
+fn capsule_slides_with_the_coulomb_acceleration() {
+    let theta = 35f32.to_radians();
+    let (mu_s, mu_d) = (0.5, 0.3); // tan(35 deg) = 0.70 > mu_s
+    let a = ramp_acceleration(theta, mu_s, mu_d);
+    let expected = 9.81 * (theta.sin() - mu_d * theta.cos());
+    assert!(
+        (a - expected).abs() < 0.05 * expected,
+        "acceleration {a} m/s^2 vs {expected}"
+    );
+}
+
+#[test]
+fn fast_sphere_does_not_tunnel_through_a_thin_capsule() {
+    // 10 m/s moves 16.7 cm a frame at 60 Hz, far more than the 5 cm thick bar is wide.
+    let mut world = World::new(Settings {
+        gravity: Vec3::ZERO,
+        ..settings()
+    });
+    world.add_body(Body::new(
+        "bar",
+        BodyKind::Fixed,
+        Shape::Capsule {
+            half_height: 0.5,
+            radius: 0.025,
+            axis: Axis::Z,
+        },
+        1.0,
+    ));
+    let mut ball = Body::new(
+        "ball",
+        BodyKind::Dynamic,
+        Shape::Sphere { radius: 0.05 },
+        1.0,
+    )
+    .with_pose(Vec3::new(-0.5, 0.0, 0.0), Quat::IDENTITY);
+    ball.linear_velocity = Vec3::new(10.0, 0.0, 0.0);
+    let id = world.add_body(ball);
+    for _ in 0..30 {
+        world.step().unwrap();
+        assert!(
+            world.body(id).position.x < -0.07,
+            "passed through: {}",
+            world.body(id).position
+        );
+    }
+}
+
+#[test]
+fn collision_groups_filter_pairs() {
+    let mut world = World::new(Settings {
+        gravity: Vec3::ZERO,
+        ..settings()
+    });
+    let mut a = Body::new("a", BodyKind::Dynamic, Shape::Sphere { radius: 0.1 }, 1.0)
+        .with_pose(Vec3::new(-0.3, 0.0, 0.0), Quat::IDENTITY);
+    let mut b = Body::new("b", BodyKind::Dynamic, Shape::Sphere { radius: 0.1 }, 1.0)
+        .with_pose(Vec3::new(0.3, 0.0, 0.0), Quat::IDENTITY);
+    a.linear_velocity = Vec3::new(1.0, 0.0, 0.0);
+    b.linear_velocity = Vec3::new(-1.0, 0.0, 0.0);
+    (a.collision_group, a.collision_mask) = (0b01, 0b01);
+    (b.collision_group, b.collision_mask) = (0b10, 0b10);
+    let (ia, ib) = (world.add_body(a), world.add_body(b));
+    for _ in 0..60 {
+        world.step().unwrap();
+    }
+    // they passed through each other
+    assert!(world.body(ia).position.x > 0.3 && world.body(ib).position.x < -0.3);
+}
+
+#[test]
+fn dropped_ragdoll_lands_and_settles_above_the_floor() {
+    for spine in [SpineKind::Chain3, SpineKind::Rod] {
+        let mut world = World::new(settings());
+        plane(&mut world, Quat::IDENTITY);
+        let mut spec = HumanoidSpec::new("r", spine);
+        spec.root = rodlab::math::Iso::new(Vec3::new(0.0, 0.6, 0.0), Quat::from_rotation_x(1.2));
+        let ragdoll = build_humanoid(&mut world, &spec).unwrap();
+        for _ in 0..300 {
+            world.step().unwrap();
+            for id in ragdoll.body_ids() {
+                let body = world.body(id);
+                let lowest = body.position.y - body.shape.bounding_radius();
+                assert!(
+                    body.position.y > 0.0 && lowest > -0.3,
+                    "{spine}: {} at {}",
+                    body.name,
+                    body.position
+                );
+            }
+            // jointed neighbours never touch
+            for p in &world.contacts.points {
+                let pair = (p.body_a.min(p.body_b), p.body_a.max(p.body_b));
+                assert!(!world.constraints.iter().any(|c| {
+                    let (a, b) = c.bodies();
+                    (a.min(b), a.max(b)) == pair
+                }));
+            }
+        }
+        let fastest = ragdoll
+            .body_ids()
+            .map(|id| world.body(id).linear_velocity.length())
+            .fold(0.0, f32::max);
+        assert!(fastest < 0.2, "{spine}: still moving at {fastest} m/s");
+        assert!(world.contacts.max_penetration(&world.bodies) < 0.01);
+    }
+}
