@@ -197,3 +197,119 @@ fn dropped_ragdoll_lands_and_settles_above_the_floor() {
         assert!(world.contacts.max_penetration(&world.bodies) < 0.01);
     }
 }
+
+#[test]
+#[ignore = "not yet: position-level contact corrections applied one after another do not commute, \
+            so a box on frictionless contacts picks up a spin about the normal (a single box on \
+            a frictionless floor reaches 0.36 rad/s of yaw in 3 s), and a stack of five boxes \
+            with friction 0.5 walks apart within 3 s; accumulating each body's correction as one \
+            rotation vector per step (commuting updates) is the planned fix"]
+fn stack_of_five_boxes_stays_standing() {
+    let mut world = World::new(settings());
+    plane(&mut world, Quat::IDENTITY);
+    let half = Vec3::new(0.2, 0.1, 0.15);
+    let boxes: Vec<_> = (0..5)
+        .map(|i| {
+            let y = half.y * (2 * i + 1) as f32;
+            world.add_body(
+                Body::new(
+                    format!("box{i}"),
+                    BodyKind::Dynamic,
+                    Shape::Cuboid { half_extents: half },
+                    4.0,
+                )
+                .with_pose(Vec3::new(0.0, y, 0.0), Quat::IDENTITY),
+            )
+        })
+        .collect();
+    for _ in 0..600 {
+        world.step().unwrap();
+    }
+    for (i, &id) in boxes.iter().enumerate() {
+        let body = world.body(id);
+        let expected = half.y * (2 * i + 1) as f32;
+        let offset = body.position - Vec3::new(0.0, expected, 0.0);
+        // standing: heights kept to 2 mm; the sequential solve lets the stack creep sideways by
+        // about a centimetre over the 10 s, which we bound at 2 cm
+        assert!(
+            offset.y.abs() < 2e-3,
+            "box {i} sank or rose by {} m",
+            offset.y
+        );
+        assert!(
+            Vec3::new(offset.x, 0.0, offset.z).length() < 0.02,
+            "box {i} slid by {offset} m"
+        );
+        let tilt = (body.orientation * Vec3::Y).angle_between(Vec3::Y);
+        assert!(tilt < 0.01, "box {i} tilted by {tilt} rad");
+    }
+}
+
+#[test]
+fn fast_capsule_does_not_pass_through_a_thin_box() {
+    // 10 m/s at 60 Hz: 16.7 cm a frame against a 5 cm thick wall.
+    let mut world = World::new(Settings {
+        gravity: Vec3::ZERO,
+        ..settings()
+    });
+    world.add_body(Body::new(
+        "wall",
+        BodyKind::Fixed,
+        Shape::Cuboid {
+            half_extents: Vec3::new(0.025, 1.0, 1.0),
+        },
+        1.0,
+    ));
+    let mut capsule = Body::new(
+        "dart",
+        BodyKind::Dynamic,
+        Shape::Capsule {
+            half_height: 0.15,
+            radius: 0.04,
+            axis: Axis::Y,
+        },
+        1.0,
+    )
+    .with_pose(Vec3::new(-0.6, 0.0, 0.0), Quat::IDENTITY);
+    capsule.linear_velocity = Vec3::new(10.0, 0.0, 0.0);
+    let id = world.add_body(capsule);
+    for _ in 0..30 {
+        world.step().unwrap();
+        assert!(
+            world.body(id).position.x < -0.06,
+            "passed through: {}",
+            world.body(id).position
+        );
+    }
+}
+
+#[test]
+fn capsule_rests_on_a_box() {
+    let mut world = World::new(settings());
+    world.add_body(Body::new(
+        "table",
+        BodyKind::Fixed,
+        Shape::Cuboid {
+            half_extents: Vec3::new(0.5, 0.05, 0.5),
+        },
+        1.0,
+    ));
+    let id = world.add_body(
+        Body::new(
+            "log",
+            BodyKind::Dynamic,
+            Shape::Capsule {
+                half_height: 0.2,
+                radius: 0.05,
+                axis: Axis::X,
+            },
+            2.0,
+        )
+        .with_pose(Vec3::new(0.0, 0.15, 0.0), Quat::IDENTITY),
+    );
+    for _ in 0..300 {
+        world.step().unwrap();
+    }
+    let p = world.body(id).position;
+    assert!((p.y - 0.1).abs() < 2e-3 && p.x.abs() < 1e-3, "log at {p}");
+}

@@ -52,14 +52,15 @@ impl ContactPoint {
         let ra = a.preview_orientation * self.local_a;
         let rb = b.preview_orientation * self.local_b;
         let separation = ((b.preview_position + rb) - (a.preview_position + ra)).dot(n);
-        if separation < 0.0 {
-            let w = a.positional_inverse_mass(ra, n) + b.positional_inverse_mass(rb, n);
-            if w > 0.0 {
-                let lambda = -separation / w;
-                a.apply_positional_impulse(-lambda * n, ra);
-                b.apply_positional_impulse(lambda * n, rb);
-                self.normal_impulse += lambda;
-            }
+        // Projected Gauss-Seidel on the step's accumulated impulse: push while penetrating, and
+        // give back what earlier iterations pushed too far, but never pull (total >= 0).
+        let w = a.positional_inverse_mass(ra, n) + b.positional_inverse_mass(rb, n);
+        if w > 0.0 && (separation < 0.0 || self.normal_impulse > 0.0) {
+            let total = (self.normal_impulse - separation / w).max(0.0);
+            let lambda = total - self.normal_impulse;
+            self.normal_impulse = total;
+            a.apply_positional_impulse(-lambda * n, ra);
+            b.apply_positional_impulse(lambda * n, rb);
         }
         if self.normal_impulse <= 0.0 {
             return;

@@ -1,6 +1,7 @@
 //! Narrow phase: closest features of a pair of shapes at the current poses, turned into contact
-//! points. Spheres are capsules of zero length, so three routines cover sphere, capsule and
-//! half-space in every combination. Boxes are not handled yet.
+//! points. Spheres are capsules of zero length. Pairs: sphere/capsule with sphere/capsule, box
+//! and half-space; box with half-space and box (corner-face contacts; edge-edge contacts are not
+//! generated yet).
 
 use crate::body::Body;
 use crate::math::Vec3;
@@ -140,17 +141,198 @@ pub fn half_space_capsule(plane: &Body, b: &Body, margin: f32, out: &mut Vec<Fea
     }
 }
 
-/// Contacts between two bodies at their current poses, within `margin`.
+/// The eight corners of a box in world space.
+fn box_corners(body: &Body, half: Vec3) -> [Vec3; 8] {
+    std::array::from_fn(|i| {
+        let sign = Vec3::new(
+            if i & 1 == 0 { -1.0 } else { 1.0 },
+            if i & 2 == 0 { -1.0 } else { 1.0 },
+            if i & 4 == 0 { -1.0 } else { 1.0 },
+        );
+        body.world_point(sign * half)
+    })
+}
+
+/// Half-space against a box: one point per corner within reach.
+pub fn half_space_box(plane: &Body, b: &Body, half: Vec3, margin: f32, out: &mut Vec<Feature>) {
+    let normal = plane.orientation * Vec3::Y;
+    for corner in box_corners(b, half) {
+        let separation = (corner - plane.position).dot(normal);
+        if separation < margin {
+            out.push(Feature {
+                normal,
+                point_a: corner - separation * normal,
+                point_b: corner,
+                separation,
+            });
+        }
+    }
+}
+
+/// A point (box space) against the box: the nearest surface point and outward normal, and the
+/// signed distance (negative inside, measured to the face of least penetration).
+fn point_box(p: Vec3, half: Vec3) -> (Vec3, Vec3, f32) {
+    let clamped = p.clamp(-half, half);
+    let outside = p - clamped;
+    if outside.length_squared() > 1e-12 {
+        let distance = outside.length();
+        return (clamped, outside / distance, distance);
+    }
+    let depth = half - p.abs();
+    let k = if depth.x <= depth.y && depth.x <= depth.z {
+        0
+    } else if depth.y <= depth.z {
+        1
+    } else {
+        2
+    };
+    let mut normal = Vec3::ZERO;
+    normal[k] = if p[k] >= 0.0 { 1.0 } else { -1.0 };
+    let mut surface = p;
+    surface[k] = normal[k] * half[k];
+    (surface, normal, -depth[k])
+}
+
+/// Box (a) against a sphere or capsule (b): the closest features (alternating projection
+/// between the segment and the box, exact for these convex pairs) plus each cap centre on its
+/// own, so a capsule lying on a face gets two points.
+pub fn box_capsule(a: &Body, half: Vec3, b: &Body, margin: f32, out: &mut Vec<Feature>) {
+    let Some((w0, w1, radius)) = segment(b) else {
+        return;
+    };
+    let to_local = |p: Vec3| a.orientation.inverse() * (p - a.position);
+    let (s0, s1) = (to_local(w0), to_local(w1));
+    let mut p = closest_points_on_segments(s0, s1, Vec3::ZERO, Vec3::ZERO).0;
+    for _ in 0..6 {
+        let q = p.clamp(-half, half);
+        p = closest_points_on_segments(s0, s1, q, q).0;
+    }
+    let first = out.len();
+    for candidate in [p, s0, s1] {
+        let (surface, normal, distance) = point_box(candidate, half);
+        let separation = distance - radius;
+        let on_b = candidate - radius * normal;
+        let duplicate = out[first..]
+            .iter()
+            .any(|f| (to_local(f.point_b) - on_b).length() < 0.01);
+        if separation < margin && !duplicate {
+            out.push(Feature {
+                normal: a.orientation * normal,
+                point_a: a.world_point(surface),
+                point_b: a.world_point(on_b),
+                separation,
+            });
+        }
+    }
+}
+
+/// Box against box. The face axis of least overlap (separating-axis test over the six face
+/// normals) gives the normal; the corners of each box that lie within reach of the other box's
+/// face across that axis, and inside its outline, become contact points (so a box resting on
+/// another, larger or smaller, gets up to four). Edge-edge contacts are not generated yet.
+pub fn box_box(
+    a: &Body,
+    half_a: Vec3,
+    b: &Body,
+    half_b: Vec3,
+    margin: f32,
+    out: &mut Vec<Feature>,
+) {
+    let axes_a = [
+        a.orientation * Vec3::X,
+        a.orientation * Vec3::Y,
+        a.orientation * Vec3::Z,
+    ];
+    let axes_b = [
+        b.orientation * Vec3::X,
+        b.orientation * Vec3::Y,
+        b.orientation * Vec3::Z,
+    ];
+    let extent = |axes: &[Vec3; 3], half: Vec3, u: Vec3| {
+        (0..3).map(|k| half[k] * axes[k].dot(u).abs()).sum::<f32>()
+    };
+    let offset = b.position - a.position;
+    let mut best: Option<(f32, Vec3)> = None;
+    for u in axes_a.iter().chain(&axes_b) {
+        let separation =
+            offset.dot(*u).abs() - extent(&axes_a, half_a, *u) - extent(&axes_b, half_b, *u);
+        if best.is_none_or(|(s, _)| separation > s) {
+            let n = if offset.dot(*u) >= 0.0 { *u } else { -*u };
+            best = Some((separation, n));
+        }
+    }
+    let Some((separation, n)) = best else { return };
+    if separation > margin {
+        return;
+    }
+    // corners of `from` against the face of `into` that faces along `toward` (n or -n)
+    let corners_against = |out: &mut Vec<Feature>,
+                           from: &Body,
+                           half_from: Vec3,
+                           into: &Body,
+                           half_into: Vec3,
+                           toward: Vec3,
+                           flip: bool| {
+        let face = extent(if flip { &axes_b } else { &axes_a }, half_into, toward);
+        for corner in box_corners(from, half_from) {
+            let local = into.orientation.inverse() * (corner - into.position);
+            let depth = (corner - into.position).dot(toward) - face;
+            let lateral = into.orientation.inverse()
+                * (corner - into.position - (corner - into.position).dot(toward) * toward);
+            let inside = (lateral.abs() - half_into).max_element() <= margin
+                || local.abs().cmple(half_into + margin).all();
+            if depth < margin && inside {
+                let on_face = corner - depth * toward;
+                let (point_a, point_b) = if flip {
+                    (corner, on_face)
+                } else {
+                    (on_face, corner)
+                };
+                out.push(Feature {
+                    normal: n,
+                    point_a,
+                    point_b,
+                    separation: depth,
+                });
+            }
+        }
+    };
+    let before = out.len();
+    corners_against(out, b, half_b, a, half_a, n, false);
+    // b's corners off a's face (b larger there): a's corners against b's face instead
+    if out.len() - before < 3 {
+        corners_against(out, a, half_a, b, half_b, -n, true);
+    }
+}
+
+/// Contacts between two bodies at their current poses, within `margin`; normals point from a
+/// to b.
 pub fn collide(a: &Body, b: &Body, margin: f32, out: &mut Vec<Feature>) -> bool {
     let before = out.len();
+    let round = |s: &Shape| matches!(s, Shape::Sphere { .. } | Shape::Capsule { .. });
     match (&a.shape, &b.shape) {
-        (Shape::HalfSpace, Shape::Sphere { .. } | Shape::Capsule { .. }) => {
-            half_space_capsule(a, b, margin, out)
+        (Shape::HalfSpace, s) if round(s) => half_space_capsule(a, b, margin, out),
+        (Shape::HalfSpace, Shape::Cuboid { half_extents }) => {
+            half_space_box(a, b, *half_extents, margin, out)
         }
-        (
-            Shape::Sphere { .. } | Shape::Capsule { .. },
-            Shape::Sphere { .. } | Shape::Capsule { .. },
-        ) => capsule_capsule(a, b, margin, out),
+        (sa, sb) if round(sa) && round(sb) => capsule_capsule(a, b, margin, out),
+        (Shape::Cuboid { half_extents }, s) if round(s) => {
+            box_capsule(a, *half_extents, b, margin, out)
+        }
+        (s, Shape::Cuboid { half_extents }) if round(s) => {
+            box_capsule(b, *half_extents, a, margin, out);
+            for f in &mut out[before..] {
+                *f = Feature {
+                    normal: -f.normal,
+                    point_a: f.point_b,
+                    point_b: f.point_a,
+                    separation: f.separation,
+                };
+            }
+        }
+        (Shape::Cuboid { half_extents: ha }, Shape::Cuboid { half_extents: hb }) => {
+            box_box(a, *ha, b, *hb, margin, out)
+        }
         _ => {}
     }
     out.len() > before
