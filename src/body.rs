@@ -56,6 +56,12 @@ pub struct Body {
     /// Preview coordinates x* of the current step (paper §4).
     pub(crate) preview_position: Vec3,
     pub(crate) preview_orientation: Quat,
+    /// Predicted orientation of this step and the sum of the rotation vectors constraints have
+    /// applied to it since: `preview_orientation = exp(correction) predicted`. Summing makes the
+    /// corrections commute; applying them one after another would leave second-order turns
+    /// (two tilts make a twist) that build up into spin.
+    pub(crate) predicted_orientation: Quat,
+    pub(crate) rotation_correction: Vec3,
 }
 
 impl Body {
@@ -83,6 +89,8 @@ impl Body {
             inverse_inertia_world: Mat3::ZERO,
             preview_position: Vec3::ZERO,
             preview_orientation: Quat::IDENTITY,
+            predicted_orientation: Quat::IDENTITY,
+            rotation_correction: Vec3::ZERO,
         };
         body.set_pose(Vec3::ZERO, Quat::IDENTITY);
         body
@@ -99,6 +107,8 @@ impl Body {
         self.orientation = orientation.normalize();
         self.preview_position = self.position;
         self.preview_orientation = self.orientation;
+        self.predicted_orientation = self.orientation;
+        self.rotation_correction = Vec3::ZERO;
         self.update_world_inertia();
     }
 
@@ -186,13 +196,28 @@ impl Body {
         }
         self.preview_position += impulse * self.inverse_mass;
         let dtheta = self.inverse_inertia_world * r.cross(impulse);
-        self.preview_orientation = crate::math::rotate_by_small(self.preview_orientation, dtheta);
+        self.rotate_preview(dtheta);
     }
 
     /// Applies a positional impulse `impulse` (kg m) through the centre of mass: dp = P / m.
     #[inline]
     pub(crate) fn apply_linear_impulse(&mut self, impulse: Vec3) {
         self.preview_position += impulse * self.inverse_mass;
+    }
+
+    /// Adds a rotation to this step's correction and refreshes the preview orientation.
+    #[inline]
+    fn rotate_preview(&mut self, dtheta: Vec3) {
+        self.rotation_correction += dtheta;
+        self.preview_orientation =
+            crate::math::rotate_by_small(self.predicted_orientation, self.rotation_correction);
+    }
+
+    /// Starts a step's corrections from the predicted orientation.
+    pub(crate) fn set_predicted_orientation(&mut self, q: Quat) {
+        self.predicted_orientation = q;
+        self.preview_orientation = q;
+        self.rotation_correction = Vec3::ZERO;
     }
 
     /// Applies an angular impulse `l` (kg m^2 rad) to the preview orientation: dtheta = I^-1 l.
@@ -202,7 +227,7 @@ impl Body {
             return;
         }
         let dtheta = self.inverse_inertia_world * l;
-        self.preview_orientation = crate::math::rotate_by_small(self.preview_orientation, dtheta);
+        self.rotate_preview(dtheta);
     }
 
     /// Generalised inverse mass for a positional correction along unit `n` at offset `r`.

@@ -47,8 +47,9 @@ pub fn step(world: &mut World) -> Result<(), SimulationError> {
         .filter(|b| b.kind != BodyKind::Fixed)
     {
         body.preview_position = body.position + dt * body.linear_velocity;
-        body.preview_orientation =
+        let predicted =
             (quat_from_rotation_vector(dt * body.angular_velocity) * body.orientation).normalize();
+        body.set_predicted_orientation(predicted);
         body.update_world_inertia();
     }
     // 3. fixed iterations over all constraints
