@@ -176,6 +176,8 @@ pub fn record_scene(scene: &Scene, rec: rerun::RecordingStream) -> anyhow::Resul
             initial_energy: 0.0,
             final_energy: 0.0,
             final_rods: Vec::new(),
+            total_dislocation_cm: Vec::new(),
+            max_penetration_cm: 0.0,
         });
     }
     let mut world = scene.build()?;
@@ -262,16 +264,23 @@ fn run_all(scenes_dir: &Path, out_dir: &Path, overrides: &Overrides) -> anyhow::
     let mut failures = Vec::new();
     for path in &paths {
         let result = load_scene(path, overrides).and_then(|scene| {
-            let name = scene.name();
-            let out = out_dir.join(format!("{name}.rrd"));
-            let started = std::time::Instant::now();
-            let report = record_scene(&scene, record::save_to(&out, &scene)?)?;
-            print_summary(&name, &scene, &report);
-            println!(
-                "  -> {} ({:.1} s)",
-                out.display(),
-                started.elapsed().as_secs_f32()
-            );
+            let mut reports = Vec::new();
+            for variant in variants(&scene, overrides) {
+                let name = variant.name();
+                let out = out_dir.join(format!("{name}.rrd"));
+                let started = std::time::Instant::now();
+                let report = record_scene(&variant, record::save_to(&out, &variant)?)?;
+                print_summary(&name, &variant, &report);
+                println!(
+                    "  -> {} ({:.1} s)",
+                    out.display(),
+                    started.elapsed().as_secs_f32()
+                );
+                reports.push((name, report));
+            }
+            if let [(name_a, a), (name_b, b)] = reports.as_slice() {
+                print_comparison(name_a, a, name_b, b);
+            }
             Ok(())
         });
         if let Err(e) = result {
@@ -286,6 +295,50 @@ fn run_all(scenes_dir: &Path, out_dir: &Path, overrides: &Overrides) -> anyhow::
         failures.join(", ")
     );
     Ok(())
+}
+
+/// The runs the main job makes of a scene: one per spine listed in `spines` (named
+/// `<scene>_<spine>`), unless the command line fixed the spine.
+fn variants(scene: &Scene, overrides: &Overrides) -> Vec<Scene> {
+    if scene.def.spines.is_empty() || overrides.spine.is_some() {
+        return vec![scene.clone()];
+    }
+    scene
+        .def
+        .spines
+        .iter()
+        .map(|&spine| {
+            let mut variant = scene.clone();
+            Overrides {
+                spine: Some(spine),
+                ..Default::default()
+            }
+            .apply(&mut variant.def);
+            variant.def.name = Some(format!("{}_{spine}", scene.name()));
+            variant
+        })
+        .collect()
+}
+
+/// Mean total dislocation of two runs of one scene, and the share of frames where the second
+/// leaves less than the first (the paper's Fig. 8 comparison).
+fn print_comparison(name_a: &str, a: &RunReport, name_b: &str, b: &RunReport) {
+    let mean = |r: &RunReport| {
+        r.total_dislocation_cm.iter().sum::<f32>() / r.total_dislocation_cm.len().max(1) as f32
+    };
+    let frames = a
+        .total_dislocation_cm
+        .len()
+        .min(b.total_dislocation_cm.len());
+    let better = (0..frames)
+        .filter(|&i| b.total_dislocation_cm[i] < a.total_dislocation_cm[i])
+        .count();
+    println!(
+        "  total dislocation, mean over frames: {name_a} {:.3} cm, {name_b} {:.3} cm; {name_b} below {name_a} in {:.1}% of frames",
+        mean(a),
+        mean(b),
+        100.0 * better as f32 / frames.max(1) as f32
+    );
 }
 
 fn check(paths: &[PathBuf]) -> anyhow::Result<()> {
@@ -319,6 +372,24 @@ pub fn print_summary(name: &str, scene: &Scene, report: &RunReport) {
         report.initial_energy,
         report.final_energy
     );
+    if report.ragdolls.len() > 4 {
+        let frames = report.total_dislocation_cm.len().max(1) as f32;
+        let mean = report.total_dislocation_cm.iter().sum::<f32>() / frames;
+        let angular: f64 = report
+            .ragdolls
+            .iter()
+            .map(|r| r.summary.mean_angular_rad())
+            .sum();
+        println!(
+            "  {} ragdolls: total dislocation {mean:.3} cm and angular violation {angular:.4} rad, means over frames",
+            report.ragdolls.len()
+        );
+        println!(
+            "  deepest contact penetration: {:.3} cm",
+            report.max_penetration_cm
+        );
+        return;
+    }
     println!(
         "  {:<14} {:<7} {:>14} {:>13} {:>15} {:>14} {:>18}",
         "ragdoll",
@@ -339,6 +410,12 @@ pub fn print_summary(name: &str, scene: &Scene, report: &RunReport) {
             r.summary.mean_angular_rad(),
             r.summary.angular_max,
             r.summary.mean_pose_deviation_cm()
+        );
+    }
+    if scene.def.contacts {
+        println!(
+            "  deepest contact penetration: {:.3} cm",
+            report.max_penetration_cm
         );
     }
     for (i, rod) in report.final_rods.iter().enumerate() {

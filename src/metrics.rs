@@ -49,6 +49,8 @@ pub struct FrameMetrics {
     pub rods: Vec<RodState>,
     /// Per ragdoll with a skeleton, per bone-mapping method: (ragdoll index, method, error).
     pub bones: Vec<(usize, BoneMethod, BoneError)>,
+    /// Deepest contact penetration (cm), reported apart from the joints' residual.
+    pub max_penetration_cm: f32,
 }
 
 impl FrameMetrics {
@@ -59,6 +61,7 @@ impl FrameMetrics {
             .extend(world.ragdolls.iter().map(|r| ragdoll_residual(world, r)));
         self.kinetic_energy = world.kinetic_energy();
         self.potential_energy = world.potential_energy();
+        self.max_penetration_cm = 100.0 * world.contacts.max_penetration(&world.bodies);
         self.rods.clear();
         for constraint in &world.constraints {
             if let Constraint::Rod(rod) = constraint {
@@ -75,6 +78,13 @@ impl FrameMetrics {
                 }
             }
         }
+    }
+
+    /// Sums over all ragdolls: (dislocation cm, angular rad).
+    pub fn totals(&self) -> (f32, f32) {
+        self.ragdolls.iter().fold((0.0, 0.0), |(d, a), r| {
+            (d + r.dislocation_cm, a + r.angular_rad)
+        })
     }
 
     pub fn total_energy(&self) -> f32 {

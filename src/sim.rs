@@ -92,6 +92,10 @@ pub struct RunReport {
     pub final_energy: f32,
     /// Final state of every rod, in constraint order.
     pub final_rods: Vec<crate::constraint::RodState>,
+    /// Per frame, the dislocation (cm) summed over all ragdolls.
+    pub total_dislocation_cm: Vec<f32>,
+    /// Deepest contact penetration over the run (cm).
+    pub max_penetration_cm: f32,
 }
 
 /// Steps `world` for `frames` frames. Residual statistics cover frames 1..=frames.
@@ -113,12 +117,16 @@ pub fn run(
         })
         .collect();
     observer.begin(world, &metrics)?;
+    let mut total_dislocation_cm = Vec::with_capacity(frames as usize);
+    let mut max_penetration_cm = 0.0f32;
     for _ in 0..frames {
         if let Err(error) = world.step() {
             observer.failed(world, &error);
             return Err(error.into());
         }
         metrics.measure(world);
+        total_dislocation_cm.push(metrics.totals().0);
+        max_penetration_cm = max_penetration_cm.max(metrics.max_penetration_cm);
         for (report, residual) in ragdolls.iter_mut().zip(&metrics.ragdolls) {
             report.summary.add(*residual);
         }
@@ -130,5 +138,7 @@ pub fn run(
         initial_energy,
         final_energy: metrics.total_energy(),
         final_rods: metrics.rods,
+        total_dislocation_cm,
+        max_penetration_cm,
     })
 }

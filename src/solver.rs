@@ -9,7 +9,7 @@
 //!
 //! Step order, one frame of `dt`:
 //! 1. apply gravity and external forces to the linear velocities; update angular velocities
-//!    with the gyroscopic term (implicit, see [`gyroscopic_update`]);
+//!    with the gyroscopic term (implicit, see [`gyroscopic_update`]); apply damping, if any;
 //! 2. find the contact points at the current poses (speculative, when contacts are on); predict
 //!    the preview poses `p* = p + dt v`, `q* = exp(dt w) q` (exact exponential map), and refresh
 //!    each body's world inverse inertia at the preview orientation;
@@ -29,10 +29,15 @@ use crate::world::{SimulationError, World};
 pub fn step(world: &mut World) -> Result<(), SimulationError> {
     let dt = world.settings.dt;
     let gravity = world.settings.gravity;
+    let (linear_damping, angular_damping) = (
+        world.settings.linear_damping,
+        world.settings.angular_damping,
+    );
     // 1. external forces and gravity
     for body in world.bodies.iter_mut().filter(|b| b.is_dynamic()) {
         body.linear_velocity += dt * (gravity + body.external_force * body.inverse_mass);
-        body.angular_velocity = gyroscopic_update(body, dt);
+        body.angular_velocity = gyroscopic_update(body, dt) / (1.0 + dt * angular_damping);
+        body.linear_velocity /= 1.0 + dt * linear_damping;
     }
     // 2. contacts at the current poses, then preview poses
     if world.settings.contacts {

@@ -22,6 +22,10 @@ pub struct Settings {
     pub contacts: bool,
     /// Contact points are made this far (m) before the surfaces touch.
     pub contact_margin: f32,
+    /// Velocity damping rates (1/s): each step `v /= 1 + dt c`. Zero (the default) in the
+    /// paper's scenes; a game scene may use a little to let piles come to rest.
+    pub linear_damping: f32,
+    pub angular_damping: f32,
 }
 
 impl Default for Settings {
@@ -34,6 +38,8 @@ impl Default for Settings {
             max_angular_speed: DEFAULT_MAX_ANGULAR_SPEED,
             contacts: false,
             contact_margin: 0.02,
+            linear_damping: 0.0,
+            angular_damping: 0.0,
         }
     }
 }

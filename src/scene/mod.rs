@@ -50,6 +50,9 @@ pub struct SceneDef {
     pub body: Vec<BodyDef>,
     #[serde(default)]
     pub joint: Vec<JointDef>,
+    /// Linear and angular velocity damping rates (1/s); zero by default.
+    #[serde(default)]
+    pub damping: [f32; 2],
     /// Whether bodies collide (off: no collision work at all).
     #[serde(default)]
     pub contacts: bool,
@@ -63,6 +66,86 @@ pub struct SceneDef {
     pub kinematics: Option<KinematicsDef>,
     #[serde(default)]
     pub rod: Vec<RodDef>,
+    /// Many ragdolls dropped from a grid (expanded into `ragdoll` entries when loaded).
+    pub drop: Option<DropDef>,
+    /// Spines the main job runs this scene with, one recording each (`<name>_<spine>.rrd`).
+    #[serde(default)]
+    pub spines: Vec<SpineKind>,
+}
+
+/// `count` ragdolls on a grid of `columns` x `rows` per layer, layers stacked up by
+/// `spacing[1]`, each turned by a random yaw and tipped by a random angle (fixed `seed`).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DropDef {
+    pub count: usize,
+    #[serde(default)]
+    pub spine: SpineKind,
+    /// Root position of the first ragdoll (m).
+    pub first: [f32; 3],
+    /// Distance between neighbours along x, between layers along y, along z (m).
+    pub spacing: [f32; 3],
+    pub columns: usize,
+    pub rows: usize,
+    #[serde(default)]
+    pub seed: u64,
+    /// Largest tip away from upright (deg).
+    #[serde(default = "default_tip")]
+    pub max_tip: f32,
+}
+
+fn default_tip() -> f32 {
+    90.0
+}
+
+impl DropDef {
+    /// The ragdolls this block stands for.
+    fn expand(&self) -> Vec<RagdollDef> {
+        let mut state = self
+            .seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        let mut random = move || {
+            // 64-bit LCG (Knuth's MMIX constants), top 24 bits as a float in [0, 1)
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let per_layer = (self.columns * self.rows).max(1);
+        (0..self.count)
+            .map(|i| {
+                let (layer, cell) = (i / per_layer, i % per_layer);
+                let (column, row) = (cell % self.columns.max(1), cell / self.columns.max(1));
+                let position = [
+                    self.first[0] + column as f32 * self.spacing[0],
+                    self.first[1] + layer as f32 * self.spacing[1],
+                    self.first[2] + row as f32 * self.spacing[2],
+                ];
+                let yaw = 360.0 * random();
+                let tip = self.max_tip * random();
+                let rotation = crate::math::rotation_vector(
+                    quat_from_degrees([0.0, yaw, 0.0]) * quat_from_degrees([tip, 0.0, 0.0]),
+                );
+                RagdollDef {
+                    name: format!("drop{i:02}"),
+                    spine: self.spine,
+                    joint_flavour: None,
+                    position,
+                    rotation: (rotation * 180.0 / std::f32::consts::PI).to_array(),
+                    pose: Default::default(),
+                    fixed: Vec::new(),
+                    spine_spring: Some(0.05),
+                    limb_spring: None,
+                    alpha_b: None,
+                    alpha_t: None,
+                    twist: None,
+                    rod_length: None,
+                    forces: Default::default(),
+                }
+            })
+            .collect()
+    }
 }
 
 /// A rod constraint (paper §5) between two named bodies, instantiated at their starting poses
@@ -344,6 +427,11 @@ impl Scene {
                 message: tidy_serde_message(e.message()),
             }
         })?;
+        let mut def = def;
+        if let Some(drop) = &def.drop {
+            let generated = drop.expand();
+            def.ragdoll.extend(generated);
+        }
         let scene = Scene {
             path,
             text: text.to_string(),
@@ -396,6 +484,12 @@ impl Scene {
         }
         if !(d.max_speed > 0.0) {
             return Err((key("max_speed"), "must be positive".into()));
+        }
+        if d.damping.iter().any(|c| !(*c >= 0.0 && c.is_finite())) {
+            return Err((
+                key("damping"),
+                format!("rates must be non-negative, got {:?}", d.damping),
+            ));
         }
         if !(d.max_angular_speed > 0.0) {
             return Err((key("max_angular_speed"), "must be positive".into()));
@@ -539,6 +633,8 @@ impl Scene {
             max_angular_speed: d.max_angular_speed,
             contacts: d.contacts,
             contact_margin: d.contact_margin,
+            linear_damping: d.damping[0],
+            angular_damping: d.damping[1],
         });
         for (i, r) in d.ragdoll.iter().enumerate() {
             let spec = HumanoidSpec {
