@@ -59,6 +59,8 @@ pub fn blueprint(scene: &Scene) -> Blueprint {
             series("Pose deviation (cm)", "metrics/pose_deviation_cm"),
             series("Rod", "metrics/rod"),
             series("Bones (cm)", "metrics/bones"),
+            series("Totals", "metrics/total"),
+            series("Penetration (cm)", "metrics/penetration_cm"),
         ]);
         Vertical::new([
             series("Dislocation (cm)", "metrics/dislocation_cm"),
@@ -446,6 +448,7 @@ impl Recorder {
             }
         }
         self.log_rods(world, metrics)?;
+        self.log_contacts(world, metrics)?;
         self.log_bones(world, metrics)?;
         if self.options.energy {
             let rec = &self.rec;
@@ -521,6 +524,45 @@ impl Recorder {
                 )?;
             }
         }
+        Ok(())
+    }
+
+    /// Contact points and normals (a scene switch), the deepest penetration, and, with many
+    /// ragdolls, the residuals summed over all of them.
+    fn log_contacts(&mut self, world: &World, metrics: &FrameMetrics) -> anyhow::Result<()> {
+        if world.settings.contacts {
+            self.rec.log(
+                "metrics/penetration_cm",
+                &rerun::Scalars::single(metrics.max_penetration_cm as f64),
+            )?;
+        }
+        if world.ragdolls.len() > 2 {
+            let (dislocation, angular) = metrics.totals();
+            self.rec.log(
+                "metrics/total/dislocation_cm",
+                &rerun::Scalars::single(dislocation as f64),
+            )?;
+            self.rec.log(
+                "metrics/total/angular_rad",
+                &rerun::Scalars::single(angular as f64),
+            )?;
+        }
+        if !self.options.contacts {
+            return Ok(());
+        }
+        self.points.clear();
+        self.arrows.clear();
+        for p in &world.contacts.points {
+            self.points
+                .push(world.body(p.body_b).world_point(p.local_b).to_array());
+            self.arrows.push((0.05 * p.normal).to_array());
+        }
+        self.rec.log(
+            "world/contacts",
+            &rerun::Arrows3D::from_vectors(self.arrows.iter().copied())
+                .with_origins(self.points.iter().copied())
+                .with_colors([rerun::Color::from_rgb(255, 80, 200)]),
+        )?;
         Ok(())
     }
 

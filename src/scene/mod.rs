@@ -244,6 +244,9 @@ pub struct RecordDef {
     /// Kinetic, potential and total energy.
     #[serde(default = "yes")]
     pub energy: bool,
+    /// Contact points and normals (off by default: many points a frame).
+    #[serde(default)]
+    pub contacts: bool,
 }
 
 impl Default for RecordDef {
@@ -253,6 +256,7 @@ impl Default for RecordDef {
             joints: true,
             residuals: true,
             energy: true,
+            contacts: false,
         }
     }
 }

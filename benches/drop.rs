@@ -1,0 +1,78 @@
+//! Criterion benchmarks for the contacts issue: one 20-iteration step of the 30-ragdoll drop
+//! (mid-fall, in the pile) per spine, and the broad phase plus narrow phase (`detect`) at 10,
+//! 100 and 1000 ragdolls standing on a grid. Run with `cargo bench --bench drop`.
+
+use criterion::{criterion_group, criterion_main, BatchSize, BenchmarkId, Criterion, Throughput};
+use rodlab::body::{Body, BodyKind};
+use rodlab::contact::Contacts;
+use rodlab::math::{Iso, Quat, Vec3};
+use rodlab::ragdoll::{build_humanoid, HumanoidSpec, SpineKind};
+use rodlab::scene::Scene;
+use rodlab::shape::Shape;
+use rodlab::sim::{self, NoObserver, Overrides};
+use rodlab::world::{Settings, World};
+
+fn drop_step(c: &mut Criterion) {
+    let scene = Scene::load(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenes/ragdoll_drop.toml"
+    ))
+    .unwrap();
+    let mut group = c.benchmark_group("ragdoll_drop_step");
+    group.sample_size(20);
+    for spine in [SpineKind::Chain3, SpineKind::Rod] {
+        let mut variant = scene.clone();
+        Overrides {
+            spine: Some(spine),
+            ..Default::default()
+        }
+        .apply(&mut variant.def);
+        let mut world = variant.build().unwrap();
+        sim::run(&mut world, 150, &mut NoObserver).unwrap(); // 2.5 s: the lower layers have landed
+        group.bench_function(spine.to_string(), |b| {
+            b.iter_batched_ref(
+                || world.clone(),
+                |w| w.step().unwrap(),
+                BatchSize::LargeInput,
+            )
+        });
+    }
+    group.finish();
+}
+
+/// `count` standing ragdolls 1 m apart on a square grid, over a floor.
+fn grid(count: usize) -> World {
+    let mut world = World::new(Settings {
+        contacts: true,
+        ..Settings::default()
+    });
+    world.add_body(Body::new("floor", BodyKind::Fixed, Shape::HalfSpace, 1.0));
+    let side = (count as f32).sqrt().ceil() as usize;
+    for i in 0..count {
+        let mut spec = HumanoidSpec::new(format!("r{i}"), SpineKind::Chain3);
+        spec.root = Iso::new(
+            Vec3::new((i % side) as f32, 0.0, (i / side) as f32),
+            Quat::IDENTITY,
+        );
+        build_humanoid(&mut world, &spec).unwrap();
+    }
+    world
+}
+
+fn broad_phase_scaling(c: &mut Criterion) {
+    let mut group = c.benchmark_group("contact_detection");
+    group.sample_size(20);
+    for count in [10, 100, 1000] {
+        let world = grid(count);
+        let mut contacts = Contacts::default();
+        contacts.detect(&world.bodies, &world.constraints, 1.0 / 60.0, 0.02); // warm the storage
+        group.throughput(Throughput::Elements(count as u64));
+        group.bench_with_input(BenchmarkId::from_parameter(count), &world, |b, world| {
+            b.iter(|| contacts.detect(&world.bodies, &world.constraints, 1.0 / 60.0, 0.02))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, drop_step, broad_phase_scaling);
+criterion_main!(benches);
