@@ -70,35 +70,22 @@ fn recording_holds_body_poses_for_every_frame() {
     assert_eq!(report.frames, 40);
     let chunks = decode(&path);
     let expected: BTreeSet<i64> = (0..=40).collect();
-    assert_eq!(
-        frames_with(&chunks, "world/chain3/capsules", "translations"),
-        expected
-    );
-    assert_eq!(
-        frames_with(&chunks, "world/chain3/capsules", "quaternions"),
-        expected
-    );
-    assert_eq!(
-        frames_with(&chunks, "metrics/dislocation_cm/chain3", "scalars"),
-        expected
-    );
-    // the rod spine's centerline, material frames and scalars, every frame
-    assert_eq!(
-        frames_with(&chunks, "world/rod/rod/spine_rod/centerline", "strips"),
-        expected
-    );
-    assert_eq!(
-        frames_with(&chunks, "world/rod/rod/spine_rod/frames", "vectors"),
-        expected
-    );
-    assert_eq!(
-        frames_with(&chunks, "metrics/rod/rod/spine_rod/psi", "scalars"),
-        expected
-    );
-    assert_eq!(
-        frames_with(&chunks, "world/rod/bones/arc", "strips"),
-        expected
-    );
+    for (entity, component) in [
+        ("world/chain3/capsules", "translations"),
+        ("world/chain3/capsules", "quaternions"),
+        ("metrics/dislocation_cm/chain3", "scalars"),
+        // the rod spine's centerline, material frames, scalars and bones
+        ("world/rod/rod/spine_rod/centerline", "strips"),
+        ("world/rod/rod/spine_rod/frames", "vectors"),
+        ("metrics/rod/rod/spine_rod/psi", "scalars"),
+        ("world/rod/bones/arc", "strips"),
+    ] {
+        assert_eq!(
+            frames_with(&chunks, entity, component),
+            expected,
+            "{entity} {component}"
+        );
+    }
     // shapes are static
     assert!(chunks
         .iter()
