@@ -46,6 +46,8 @@ pub struct Body {
     /// Coulomb friction coefficients (combined per pair as geometric means).
     pub static_friction: f32,
     pub dynamic_friction: f32,
+    /// Coefficient of restitution in [0, 1] (a pair uses the larger of its two).
+    pub restitution: f32,
     /// Collision filter: a pair collides if each one's group bits meet the other's mask bits.
     pub collision_group: u32,
     pub collision_mask: u32,
@@ -82,6 +84,7 @@ impl Body {
             external_force: Vec3::ZERO,
             static_friction: 0.6,
             dynamic_friction: 0.5,
+            restitution: 0.0,
             collision_group: 1,
             collision_mask: u32::MAX,
             inverse_mass: if dynamic { 1.0 / mass } else { 0.0 },
@@ -218,6 +221,13 @@ impl Body {
         self.predicted_orientation = q;
         self.preview_orientation = q;
         self.rotation_correction = Vec3::ZERO;
+    }
+
+    /// Applies a velocity impulse `impulse` (N s) at world offset `r`: dv = P / m,
+    /// dw = I^-1 (r x P), with the inverse inertia at the current orientation.
+    pub(crate) fn apply_velocity_impulse(&mut self, impulse: Vec3, r: Vec3) {
+        self.linear_velocity += impulse * self.inverse_mass;
+        self.angular_velocity += self.inverse_inertia_world * r.cross(impulse);
     }
 
     /// Applies an angular impulse `l` (kg m^2 rad) to the preview orientation: dtheta = I^-1 l.

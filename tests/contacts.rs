@@ -312,3 +312,44 @@ fn capsule_rests_on_a_box() {
     let p = world.body(id).position;
     assert!((p.y - 0.1).abs() < 2e-3 && p.x.abs() < 1e-3, "log at {p}");
 }
+
+/// A ball dropped from 1 m onto a plane rebounds to e^2 of the height (restitution is a
+/// velocity pass, so the first bounce is checked to 5%); with e = 0 it stays down.
+#[test]
+fn ball_rebounds_to_e_squared_of_its_drop_height() {
+    for e in [0.0f32, 0.5, 0.8] {
+        let mut world = World::new(Settings {
+            dt: 1.0 / 240.0,
+            ..settings()
+        });
+        plane(&mut world, Quat::IDENTITY);
+        let mut ball = Body::new(
+            "ball",
+            BodyKind::Dynamic,
+            Shape::Sphere { radius: 0.1 },
+            1.0,
+        )
+        .with_pose(Vec3::new(0.0, 1.1, 0.0), Quat::IDENTITY);
+        ball.restitution = e;
+        let id = world.add_body(ball);
+        let (mut bounced, mut peak) = (false, 0.0f32);
+        for _ in 0..600 {
+            world.step().unwrap();
+            let body = world.body(id);
+            if body.linear_velocity.y > 0.0 {
+                bounced = true;
+            }
+            if bounced {
+                peak = peak.max(body.position.y - 0.1);
+                if body.linear_velocity.y < 0.0 {
+                    break;
+                }
+            }
+        }
+        let expected = e * e;
+        assert!(
+            (peak - expected).abs() < 0.05 * expected.max(0.2),
+            "e = {e}: rebound {peak} m vs {expected} m"
+        );
+    }
+}

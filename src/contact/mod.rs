@@ -11,7 +11,8 @@
 //! began is removed while the friction impulse stays within `mu_s` times the normal impulse
 //! accumulated this step (sticking); beyond that at most `mu_d` times it is applied (sliding),
 //! so a block on a slope accelerates at `g (sin theta - mu_d cos theta)`. Friction coefficients
-//! combine as the geometric mean. Restitution is not modelled yet (inelastic contacts).
+//! combine as the geometric mean. Restitution is a velocity pass after the positions (see
+//! [`Contacts::restitute`]); a pair uses the larger coefficient.
 //!
 //! Filtering: bodies joined by a joint (unless `collide_connected`) or a rod never collide, and
 //! a pair collides only if each body's group bits meet the other's mask bits.
@@ -36,6 +37,9 @@ pub struct ContactPoint {
     pub local_b: Vec3,
     pub static_friction: f32,
     pub dynamic_friction: f32,
+    pub restitution: f32,
+    /// Normal velocity of the points when the contact was found (m/s, negative approaching).
+    approach_speed: f32,
     /// Positional impulses accumulated this step (kg m).
     normal_impulse: f32,
     friction_impulse: f32,
@@ -149,6 +153,7 @@ impl Contacts {
             }
             let static_friction = (body_a.static_friction * body_b.static_friction).sqrt();
             let dynamic_friction = (body_a.dynamic_friction * body_b.dynamic_friction).sqrt();
+            let restitution = body_a.restitution.max(body_b.restitution);
             for f in &self.features {
                 self.points.push(ContactPoint {
                     body_a: BodyId(a),
@@ -158,6 +163,10 @@ impl Contacts {
                     local_b: body_b.orientation.inverse() * (f.point_b - body_b.position),
                     static_friction,
                     dynamic_friction,
+                    restitution,
+                    approach_speed: relative_normal_velocity(
+                        body_a, body_b, f.point_a, f.point_b, f.normal,
+                    ),
                     normal_impulse: 0.0,
                     friction_impulse: 0.0,
                 });
@@ -173,6 +182,29 @@ impl Contacts {
         }
     }
 
+    /// Step 4b of the solver: restitution. For points that took a normal impulse and were
+    /// approaching faster than `threshold` (m/s) when found, set the derived normal velocity to
+    /// `-e` times that approach speed (Mueller et al. 2020); slower impacts stay inelastic so
+    /// resting contacts do not jitter.
+    pub fn restitute(&self, bodies: &mut [Body], threshold: f32) {
+        for p in self.points.iter().filter(|p| {
+            p.restitution > 0.0 && p.normal_impulse > 0.0 && p.approach_speed < -threshold
+        }) {
+            let (a, b) = pair_mut(bodies, p.body_a.index(), p.body_b.index());
+            let (pa, pb) = (a.world_point(p.local_a), b.world_point(p.local_b));
+            let (ra, rb) = (pa - a.position, pb - b.position);
+            let now = relative_normal_velocity(a, b, pa, pb, p.normal);
+            let change = -p.restitution * p.approach_speed - now;
+            let w =
+                a.positional_inverse_mass(ra, p.normal) + b.positional_inverse_mass(rb, p.normal);
+            if change > 0.0 && w > 0.0 {
+                let impulse = (change / w) * p.normal;
+                a.apply_velocity_impulse(-impulse, ra);
+                b.apply_velocity_impulse(impulse, rb);
+            }
+        }
+    }
+
     /// Deepest penetration (m) among the contact points at the current poses.
     pub fn max_penetration(&self, bodies: &[Body]) -> f32 {
         self.points
@@ -180,4 +212,12 @@ impl Contacts {
             .map(|p| -p.separation(&bodies[p.body_a.index()], &bodies[p.body_b.index()]))
             .fold(0.0, f32::max)
     }
+}
+
+/// Velocity of b's point minus a's along `normal` (m/s).
+fn relative_normal_velocity(a: &Body, b: &Body, point_a: Vec3, point_b: Vec3, normal: Vec3) -> f32 {
+    let velocity = |body: &Body, point: Vec3| {
+        body.linear_velocity + body.angular_velocity.cross(point - body.position)
+    };
+    (velocity(b, point_b) - velocity(a, point_a)).dot(normal)
 }

@@ -348,6 +348,8 @@ pub struct BodyDef {
     /// Coulomb friction coefficients (default 0.6 static, 0.5 dynamic).
     pub static_friction: Option<f32>,
     pub dynamic_friction: Option<f32>,
+    /// Coefficient of restitution in [0, 1] (default 0: inelastic).
+    pub restitution: Option<f32>,
     /// Collision filter bits (default group 1, mask all).
     pub collision_group: Option<u32>,
     pub collision_mask: Option<u32>,
@@ -789,6 +791,9 @@ fn check_body(b: &BodyDef) -> Result<(), (&'static str, String)> {
         }
         ShapeKind::Plane => {}
     }
+    if matches!(b.restitution, Some(e) if !(0.0..=1.0).contains(&e)) {
+        return Err(("restitution", "must lie in [0, 1]".into()));
+    }
     for (field, value) in [
         ("static_friction", b.static_friction),
         ("dynamic_friction", b.dynamic_friction),
@@ -852,6 +857,7 @@ fn build_body(b: &BodyDef) -> Body {
     }
     body.static_friction = b.static_friction.unwrap_or(body.static_friction);
     body.dynamic_friction = b.dynamic_friction.unwrap_or(body.dynamic_friction);
+    body.restitution = b.restitution.unwrap_or(body.restitution);
     body.collision_group = b.collision_group.unwrap_or(body.collision_group);
     body.collision_mask = b.collision_mask.unwrap_or(body.collision_mask);
     body
