@@ -199,10 +199,6 @@ fn dropped_ragdoll_lands_and_settles_above_the_floor() {
 }
 
 #[test]
-#[ignore = "not yet: a stack of two boxes stands, but with friction 0.5 the upper box creeps \
-            (4.5 mm up and 7 mm sideways in 3 s), and five boxes walk apart within 3 s with or \
-            without friction: corner contacts solved one after another at position level do not \
-            converge on a tall stack in 20 iterations"]
 fn stack_of_five_boxes_stays_standing() {
     let mut world = World::new(settings());
     plane(&mut world, Quat::IDENTITY);
@@ -228,15 +224,16 @@ fn stack_of_five_boxes_stays_standing() {
         let body = world.body(id);
         let expected = half.y * (2 * i + 1) as f32;
         let offset = body.position - Vec3::new(0.0, expected, 0.0);
-        // standing: heights kept to 2 mm; the sequential solve lets the stack creep sideways by
-        // about a centimetre over the 10 s, which we bound at 2 cm
+        // standing: heights kept to 2 mm (measured: the top box 1 mm low, the sum of five
+        // contacts' residual penetration) and sideways to 1 cm (measured: 3 mm, all in the
+        // first second; the friction anchors hold it after that)
         assert!(
             offset.y.abs() < 2e-3,
             "box {i} sank or rose by {} m",
             offset.y
         );
         assert!(
-            Vec3::new(offset.x, 0.0, offset.z).length() < 0.02,
+            Vec3::new(offset.x, 0.0, offset.z).length() < 0.01,
             "box {i} slid by {offset} m"
         );
         let tilt = (body.orientation * Vec3::Y).angle_between(Vec3::Y);

@@ -7,16 +7,22 @@
 //! `C = (p_b - p_a) . n` at the preview poses and, when negative, pushes the points apart
 //! along `n` (non-penetration, `C >= 0`).
 //!
-//! Coulomb friction at position level: the tangential slip of the two points since the step
-//! began is removed while the friction impulse stays within `mu_s` times the normal impulse
-//! accumulated this step (sticking); beyond that at most `mu_d` times it is applied (sliding),
-//! so a block on a slope accelerates at `g (sin theta - mu_d cos theta)`. Friction coefficients
+//! Coulomb friction at position level: the tangential slip of the two points is removed while
+//! the friction impulse stays within `mu_s` times the normal impulse accumulated this step
+//! (sticking); beyond that at most `mu_d` times it is applied (sliding), so a block on a slope
+//! accelerates at `g (sin theta - mu_d cos theta)`. Slip is measured from a pair of friction
+//! anchors, body-space points that coincided when the contact began to stick. A contact found
+//! again next step at nearly the same body-space points (within [`ANCHOR_REACH`]) that stuck
+//! to the end of the step keeps its anchors, so the small slips left by a finite number of
+//! iterations are pulled back instead of adding up to creep (the same role as Box2D's anchors
+//! and warm starting); a sliding contact starts fresh anchors each step. Friction coefficients
 //! combine as the geometric mean. Restitution is a velocity pass after the positions (see
 //! [`Contacts::restitute`]); a pair uses the larger coefficient.
 //!
 //! Filtering: bodies joined by a joint (unless `collide_connected`) or a rod never collide, and
 //! a pair collides only if each body's group bits meet the other's mask bits.
 
+pub mod box_box;
 pub mod broadphase;
 pub mod narrowphase;
 
@@ -25,6 +31,10 @@ use crate::constraint::{parts::pair_mut, Constraint};
 use crate::math::Vec3;
 use broadphase::BroadPhase;
 use narrowphase::Feature;
+
+/// A new contact takes over the friction anchors of last step's contact between the same bodies
+/// whose body-space points lie within this distance (m) of its own.
+pub const ANCHOR_REACH: f32 = 0.01;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContactPoint {
@@ -38,6 +48,11 @@ pub struct ContactPoint {
     pub static_friction: f32,
     pub dynamic_friction: f32,
     pub restitution: f32,
+    /// Friction anchors in body space: where the points were when the contact began to stick.
+    anchor_a: Vec3,
+    anchor_b: Vec3,
+    /// Whether the contact stuck (friction within the static cone) through the step.
+    sticking: bool,
     /// Normal velocity of the points when the contact was found (m/s, negative approaching).
     approach_speed: f32,
     /// Positional impulses accumulated this step (kg m).
@@ -69,12 +84,10 @@ impl ContactPoint {
         if self.normal_impulse <= 0.0 {
             return;
         }
-        // friction: tangential slip of the points since the step began
-        let ra = a.preview_orientation * self.local_a;
-        let rb = b.preview_orientation * self.local_b;
-        let moved_a = (a.preview_position + ra) - a.world_point(self.local_a);
-        let moved_b = (b.preview_position + rb) - b.world_point(self.local_b);
-        let slip = moved_b - moved_a;
+        // friction: tangential slip of the anchors
+        let ra = a.preview_orientation * self.anchor_a;
+        let rb = b.preview_orientation * self.anchor_b;
+        let slip = (b.preview_position + rb) - (a.preview_position + ra);
         let tangential = slip - slip.dot(n) * n;
         let length = tangential.length();
         if length < 1e-9 {
@@ -91,6 +104,7 @@ impl ContactPoint {
         {
             needed
         } else {
+            self.sticking = false;
             (self.dynamic_friction * self.normal_impulse - self.friction_impulse).clamp(0.0, needed)
         };
         if applied > 0.0 {
@@ -105,6 +119,8 @@ impl ContactPoint {
 #[derive(Clone, Debug, Default)]
 pub struct Contacts {
     pub points: Vec<ContactPoint>,
+    /// Last step's points, sorted by body pair, for their friction anchors.
+    previous: Vec<ContactPoint>,
     broad_phase: BroadPhase,
     features: Vec<Feature>,
     pairs: Vec<(u32, u32)>,
@@ -130,6 +146,9 @@ impl Contacts {
             self.excluded.sort_unstable();
             self.excluded_for = constraints.len();
         }
+        std::mem::swap(&mut self.points, &mut self.previous);
+        self.previous
+            .sort_unstable_by_key(|p| (p.body_a.0, p.body_b.0));
         self.points.clear();
         self.pairs.clear();
         let pairs = &mut self.pairs;
@@ -154,13 +173,34 @@ impl Contacts {
             let static_friction = (body_a.static_friction * body_b.static_friction).sqrt();
             let dynamic_friction = (body_a.dynamic_friction * body_b.dynamic_friction).sqrt();
             let restitution = body_a.restitution.max(body_b.restitution);
+            let previous = {
+                let start = self
+                    .previous
+                    .partition_point(|p| (p.body_a.0, p.body_b.0) < (a, b));
+                let end = self
+                    .previous
+                    .partition_point(|p| (p.body_a.0, p.body_b.0) <= (a, b));
+                &self.previous[start..end]
+            };
             for f in &self.features {
+                let local_a = body_a.orientation.inverse() * (f.point_a - body_a.position);
+                let local_b = body_b.orientation.inverse() * (f.point_b - body_b.position);
+                let kept = previous.iter().find(|p| {
+                    p.sticking
+                        && p.local_a.distance(local_a) < ANCHOR_REACH
+                        && p.local_b.distance(local_b) < ANCHOR_REACH
+                });
+                let (anchor_a, anchor_b) =
+                    kept.map_or((local_a, local_b), |p| (p.anchor_a, p.anchor_b));
                 self.points.push(ContactPoint {
                     body_a: BodyId(a),
                     body_b: BodyId(b),
                     normal: f.normal,
-                    local_a: body_a.orientation.inverse() * (f.point_a - body_a.position),
-                    local_b: body_b.orientation.inverse() * (f.point_b - body_b.position),
+                    local_a,
+                    local_b,
+                    anchor_a,
+                    anchor_b,
+                    sticking: true,
                     static_friction,
                     dynamic_friction,
                     restitution,

@@ -1,7 +1,6 @@
 //! Narrow phase: closest features of a pair of shapes at the current poses, turned into contact
 //! points. Spheres are capsules of zero length. Pairs: sphere/capsule with sphere/capsule, box
-//! and half-space; box with half-space and box (corner-face contacts; edge-edge contacts are not
-//! generated yet).
+//! and half-space; box with half-space; box with box in [`super::box_box`].
 
 use crate::body::Body;
 use crate::math::Vec3;
@@ -226,85 +225,6 @@ pub fn box_capsule(a: &Body, half: Vec3, b: &Body, margin: f32, out: &mut Vec<Fe
     }
 }
 
-/// Box against box. The face axis of least overlap (separating-axis test over the six face
-/// normals) gives the normal; the corners of each box that lie within reach of the other box's
-/// face across that axis, and inside its outline, become contact points (so a box resting on
-/// another, larger or smaller, gets up to four). Edge-edge contacts are not generated yet.
-pub fn box_box(
-    a: &Body,
-    half_a: Vec3,
-    b: &Body,
-    half_b: Vec3,
-    margin: f32,
-    out: &mut Vec<Feature>,
-) {
-    let axes_a = [
-        a.orientation * Vec3::X,
-        a.orientation * Vec3::Y,
-        a.orientation * Vec3::Z,
-    ];
-    let axes_b = [
-        b.orientation * Vec3::X,
-        b.orientation * Vec3::Y,
-        b.orientation * Vec3::Z,
-    ];
-    let extent = |axes: &[Vec3; 3], half: Vec3, u: Vec3| {
-        (0..3).map(|k| half[k] * axes[k].dot(u).abs()).sum::<f32>()
-    };
-    let offset = b.position - a.position;
-    let mut best: Option<(f32, Vec3)> = None;
-    for u in axes_a.iter().chain(&axes_b) {
-        let separation =
-            offset.dot(*u).abs() - extent(&axes_a, half_a, *u) - extent(&axes_b, half_b, *u);
-        if best.is_none_or(|(s, _)| separation > s) {
-            let n = if offset.dot(*u) >= 0.0 { *u } else { -*u };
-            best = Some((separation, n));
-        }
-    }
-    let Some((separation, n)) = best else { return };
-    if separation > margin {
-        return;
-    }
-    // corners of `from` against the face of `into` that faces along `toward` (n or -n)
-    let corners_against = |out: &mut Vec<Feature>,
-                           from: &Body,
-                           half_from: Vec3,
-                           into: &Body,
-                           half_into: Vec3,
-                           toward: Vec3,
-                           flip: bool| {
-        let face = extent(if flip { &axes_b } else { &axes_a }, half_into, toward);
-        for corner in box_corners(from, half_from) {
-            let local = into.orientation.inverse() * (corner - into.position);
-            let depth = (corner - into.position).dot(toward) - face;
-            let lateral = into.orientation.inverse()
-                * (corner - into.position - (corner - into.position).dot(toward) * toward);
-            let inside = (lateral.abs() - half_into).max_element() <= margin
-                || local.abs().cmple(half_into + margin).all();
-            if depth < margin && inside {
-                let on_face = corner - depth * toward;
-                let (point_a, point_b) = if flip {
-                    (corner, on_face)
-                } else {
-                    (on_face, corner)
-                };
-                out.push(Feature {
-                    normal: n,
-                    point_a,
-                    point_b,
-                    separation: depth,
-                });
-            }
-        }
-    };
-    let before = out.len();
-    corners_against(out, b, half_b, a, half_a, n, false);
-    // b's corners off a's face (b larger there): a's corners against b's face instead
-    if out.len() - before < 3 {
-        corners_against(out, a, half_a, b, half_b, -n, true);
-    }
-}
-
 /// Contacts between two bodies at their current poses, within `margin`; normals point from a
 /// to b.
 pub fn collide(a: &Body, b: &Body, margin: f32, out: &mut Vec<Feature>) -> bool {
@@ -331,7 +251,7 @@ pub fn collide(a: &Body, b: &Body, margin: f32, out: &mut Vec<Feature>) -> bool 
             }
         }
         (Shape::Cuboid { half_extents: ha }, Shape::Cuboid { half_extents: hb }) => {
-            box_box(a, *ha, b, *hb, margin, out)
+            super::box_box::box_box(a, *ha, b, *hb, margin, out)
         }
         _ => {}
     }
