@@ -185,6 +185,29 @@ impl Body {
         self.preview_position + self.preview_orientation * local
     }
 
+    /// An upper bound (m/s) on the speed of any point of the body's shape: `|v| + |w x r|` at
+    /// the furthest reach, with a capsule's spin about its own axis reaching only its radius.
+    /// The measure of "at rest": a limb twitching about its long axis moves its surface at
+    /// `w r`, a limb swinging moves its ends at `w (h + r)`.
+    pub fn max_point_speed(&self) -> f32 {
+        let w = self.angular_velocity;
+        let spin = match self.shape {
+            Shape::Sphere { radius } => w.length() * radius,
+            Shape::Capsule {
+                half_height,
+                radius,
+                axis,
+            } => {
+                let along = (self.orientation * axis.unit()).dot(w);
+                let across = (w.length_squared() - along * along).max(0.0).sqrt();
+                across * (half_height + radius) + along.abs() * radius
+            }
+            Shape::Cuboid { half_extents } => w.length() * half_extents.length(),
+            Shape::HalfSpace => 0.0,
+        };
+        self.linear_velocity.length() + spin
+    }
+
     /// World position of a body-space point at the current pose.
     pub fn world_point(&self, local: Vec3) -> Vec3 {
         self.position + self.orientation * local

@@ -1,5 +1,5 @@
 //! The 30-ragdoll drop (paper Fig. 1, bottom of Fig. 8): ten seconds without NaN, nothing
-//! through the floor, nearly all bodies at rest at the end, and the rod spine leaving less
+//! through the floor, every body nearly at rest at the end, and the rod spine leaving less
 //! dislocation than the three-joint spine.
 
 use rodlab::ragdoll::SpineKind;
@@ -42,30 +42,40 @@ fn thirty_ragdolls_land_and_settle_and_the_rod_spine_leaves_less_residual() {
         let (world, mean, lowest) = drop(spine);
         // body centres stay above the floor (the thinnest limb has a 4 cm radius)
         assert!(lowest > 0.0, "{spine}: a body centre reached y = {lowest}");
-        let fastest = world
+        let bodies: Vec<_> = world
             .ragdolls
             .iter()
             .flat_map(|r| r.body_ids())
-            .map(|id| world.body(id).linear_velocity.length())
-            .fold(0.0, f32::max);
-        let speeds: Vec<f32> = world
-            .ragdolls
-            .iter()
-            .flat_map(|r| r.body_ids())
-            .map(|id| world.body(id).linear_velocity.length())
+            .map(|id| world.body(id))
             .collect();
-        let resting = speeds.iter().filter(|&&v| v < 0.2).count() as f32 / speeds.len() as f32;
-        // Not yet every body: a few limbs caught in the concave corners between stair boxes
-        // keep jittering (see the README's status); the rest of the pile is at rest.
-        // measured: chain3 99.2% (fastest 0.29 m/s), rod 98.8% (fastest 0.49 m/s)
-        assert!(
-            resting > 0.98,
-            "{spine}: only {:.1}% of bodies at rest",
+        let fastest_centre = bodies
+            .iter()
+            .map(|b| b.linear_velocity.length())
+            .fold(0.0, f32::max);
+        let point_speeds: Vec<f32> = bodies.iter().map(|b| b.max_point_speed()).collect();
+        let fastest_point = point_speeds.iter().copied().fold(0.0, f32::max);
+        let resting =
+            point_speeds.iter().filter(|&&v| v < 0.2).count() as f32 / point_speeds.len() as f32;
+        println!(
+            "{spine}: fastest centre {fastest_centre:.3} m/s, fastest point {fastest_point:.3} \
+             m/s, {:.1}% of bodies with every point under 0.2 m/s",
             100.0 * resting
         );
+        // Nearly at rest: a few limbs caught between stair boxes and other ragdolls still
+        // twitch (measured: fastest centre 0.08 m/s chain3, 0.24 m/s rod (a shank); fastest
+        // point 0.27 and 0.48 m/s; 99.5% and 97.9% of bodies under 0.2 m/s everywhere).
         assert!(
-            fastest < 1.0,
-            "{spine}: a body still moves at {fastest} m/s after 10 s"
+            fastest_centre < 0.3,
+            "{spine}: a body centre still moves at {fastest_centre} m/s after 10 s"
+        );
+        assert!(
+            fastest_point < 0.75,
+            "{spine}: a body's surface still moves at {fastest_point} m/s after 10 s"
+        );
+        assert!(
+            resting > 0.95,
+            "{spine}: only {:.1}% of bodies at rest",
+            100.0 * resting
         );
         means.push(mean);
     }

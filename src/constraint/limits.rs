@@ -5,14 +5,18 @@
 //! - swing angle = angle between the world x axes `a_x = F_a x` and `b_x = F_b x`; above
 //!   `swing_max` it is reduced by turning b about `a_x x b_x`;
 //! - twist angle = 2 atan2(r_x, r_w); outside [twist_min, twist_max] it is clamped by turning b
-//!   about its own x axis, which changes the twist and nothing else.
+//!   about its own x axis, which changes the twist and nothing else. The preview's twist is
+//!   unwrapped next to the twist at the start of the step, so a body that turns past +-pi in
+//!   one step is clamped back to the side it came from. Clamping the wrapped angle instead sends
+//!   it to the opposite bound, and the velocity derived from that jump feeds a flip between the
+//!   two bounds every step (an arm spinning at 130 rad/s in the drop, before this).
 //!
 //! A hinge (knee, elbow) is the same limit with `swing_max = 0`: the two x axes are held aligned
 //! and the twist angle is the hinge angle.
 
 use super::parts::relative_rotation;
 use crate::body::Body;
-use crate::math::{angle_between, any_perpendicular, twist_angle, Quat, Vec3};
+use crate::math::{angle_between, any_perpendicular, twist_angle, wrap_angle, Quat, Vec3};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AngularLimit {
@@ -77,7 +81,12 @@ impl AngularLimit {
         }
         let frame_a = a.preview_orientation * local_frame_a;
         let frame_b = b.preview_orientation * local_frame_b;
-        let excess = self.twist_excess(twist_angle(frame_a.inverse() * frame_b, Vec3::X));
+        let start = twist_angle(
+            (a.orientation * local_frame_a).inverse() * (b.orientation * local_frame_b),
+            Vec3::X,
+        );
+        let twist = twist_angle(frame_a.inverse() * frame_b, Vec3::X);
+        let excess = self.twist_excess(start + wrap_angle(twist - start));
         if excess != 0.0 {
             relative_rotation(a, b, -excess * (frame_b * Vec3::X));
         }
