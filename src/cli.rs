@@ -48,11 +48,45 @@ pub enum Command {
         #[command(flatten)]
         rerun: rerun::clap::RerunArgs,
     },
+    /// Speed against accuracy: runs SCENE headless for every spine, joint flavour, time step
+    /// and iteration count -> <out>/<scene>_sweep.csv, .svg (chart) and .rrd.
+    Sweep(SweepArgs),
     /// Validates scene files without running them.
     Check {
         #[arg(required = true)]
         scenes: Vec<PathBuf>,
     },
+}
+
+#[derive(Debug, Clone, Args)]
+pub struct SweepArgs {
+    pub scene: PathBuf,
+    /// Iteration counts, comma separated.
+    #[arg(long, value_delimiter = ',', default_value = "1,2,4,8,16,32",
+          value_parser = clap::value_parser!(u32).range(1..))]
+    pub iterations: Vec<u32>,
+    /// Spines, comma separated.
+    #[arg(long, value_delimiter = ',', default_value = "chain3,rod,single",
+          value_parser = parse_choice::<SpineKind>)]
+    pub spines: Vec<SpineKind>,
+    /// Joint flavours, comma separated.
+    #[arg(long, value_delimiter = ',', default_value = "cheap,exact",
+          value_parser = parse_choice::<JointFlavour>)]
+    pub joint: Vec<JointFlavour>,
+    /// Time steps (s), comma separated; default the scene's.
+    #[arg(long, value_delimiter = ',', value_parser = positive_seconds)]
+    pub dt: Vec<f32>,
+    /// Frames per run; default the scene's.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    pub frames: Option<u32>,
+    /// Runs per combination, pooled for the median step time.
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..))]
+    pub repeats: u32,
+    /// Another engine measured the same way (rapier).
+    #[arg(long)]
+    pub peer: Option<String>,
+    #[arg(long, default_value = "recordings")]
+    pub out: PathBuf,
 }
 
 #[derive(Debug, Clone, Args)]
@@ -84,7 +118,7 @@ pub struct OverrideArgs {
 }
 
 /// Parses a choice the way scene files spell it (the enum's serde names).
-fn parse_choice<T: serde::de::DeserializeOwned>(s: &str) -> Result<T, String> {
+pub(crate) fn parse_choice<T: serde::de::DeserializeOwned>(s: &str) -> Result<T, String> {
     use serde::de::IntoDeserializer;
     T::deserialize(s.into_deserializer())
         .map_err(|e: serde::de::value::Error| e.to_string().replace('`', "\""))
@@ -125,11 +159,18 @@ pub fn main() -> anyhow::Result<()> {
     let matches = Cli::command().get_matches();
     let cli = Cli::from_arg_matches(&matches)?;
     match cli.command {
-        None => run_all(
-            Path::new("scenes"),
-            Path::new("recordings"),
-            &Overrides::default(),
-        ),
+        None => main_job(),
+        Some(Command::Sweep(args)) => {
+            let config = crate::sweep::SweepConfig {
+                iterations: args.iterations,
+                spines: args.spines,
+                joints: args.joint,
+                dts: args.dt,
+                frames: args.frames,
+                repeats: args.repeats,
+            };
+            sweep(&args.scene, &config, args.peer.as_deref(), &args.out).map(|_| ())
+        }
         Some(Command::All {
             scenes,
             out,
@@ -144,6 +185,136 @@ pub fn main() -> anyhow::Result<()> {
             run_one(&scene, &(&overrides).into(), &rerun, rerun_sink_given(sub))
         }
         Some(Command::Check { scenes }) => check(&scenes),
+    }
+}
+
+/// The main job: every scene recorded, then the passive-bending sweep.
+fn main_job() -> anyhow::Result<()> {
+    let (scenes, out) = (Path::new("scenes"), Path::new("recordings"));
+    run_all(scenes, out, &Overrides::default())?;
+    let path = scenes.join("passive_bending.toml");
+    sweep(&path, &crate::sweep::SweepConfig::default(), None, out)?;
+    Ok(())
+}
+
+/// `rodlab sweep`: every combination, with a progress bar, into CSV, SVG and a recording.
+fn sweep(
+    path: &Path,
+    config: &crate::sweep::SweepConfig,
+    peer: Option<&str>,
+    out: &Path,
+) -> anyhow::Result<Vec<crate::sweep::SweepRow>> {
+    use crate::sweep;
+    if let Some(peer) = peer {
+        anyhow::bail!(
+            "--peer {peer}: no peer engine is built into rodlab yet (the Rapier peer is still \
+             to do); run the sweep without --peer"
+        );
+    }
+    let scene = Scene::load(path)?;
+    let name = scene.name();
+    let combinations = sweep::combinations(&scene.def, config);
+    let machine = sweep::machine_name();
+    println!("== sweep {name}: {} runs on {machine}", combinations.len());
+    let mut progress = Progress::new(combinations.len());
+    let mut rows = Vec::with_capacity(combinations.len());
+    for overrides in &combinations {
+        progress.show(&format!(
+            "{}/{} dt={:.4} iterations={}",
+            overrides.spine.unwrap_or_default(),
+            overrides.joint_flavour.unwrap_or_default(),
+            overrides.dt.unwrap_or(scene.def.dt),
+            overrides.iterations.unwrap_or(scene.def.iterations)
+        ));
+        rows.push(sweep::run_one(&scene, overrides, config.repeats)?);
+    }
+    progress.finish();
+    println!(
+        "  {:<14} {:>8} {:>5} {:>10} {:>12} {:>12} {:>10}",
+        "method", "dt", "iter", "step us", "mean disl cm", "max disl cm", "mean rad"
+    );
+    for r in &rows {
+        match &r.failed {
+            None => println!(
+                "  {:<14} {:>8.4} {:>5} {:>10.1} {:>12.4} {:>12.4} {:>10.5}",
+                r.method,
+                r.dt,
+                r.iterations,
+                r.step_us,
+                r.mean_dislocation_cm,
+                r.max_dislocation_cm,
+                r.mean_angular_rad
+            ),
+            Some(e) => println!(
+                "  {:<14} {:>8.4} {:>5} failed: {e}",
+                r.method, r.dt, r.iterations
+            ),
+        }
+    }
+    std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+    let csv = out.join(format!("{name}_sweep.csv"));
+    std::fs::write(&csv, sweep::to_csv(&rows))
+        .with_context(|| format!("cannot write {}", csv.display()))?;
+    let svg = out.join(format!("{name}_sweep.svg"));
+    std::fs::write(&svg, sweep::chart(&name, &rows, &machine).to_svg())
+        .with_context(|| format!("cannot write {}", svg.display()))?;
+    let rrd = out.join(format!("{name}_sweep.rrd"));
+    record::save_sweep(&rrd, &name, &rows, &machine)?;
+    println!(
+        "  -> {}, {}, {}",
+        csv.display(),
+        svg.display(),
+        rrd.display()
+    );
+    Ok(rows)
+}
+
+/// A one-line progress bar on a terminal; one line per run otherwise (CI logs).
+struct Progress {
+    total: usize,
+    done: usize,
+    terminal: bool,
+    started: std::time::Instant,
+}
+
+impl Progress {
+    fn new(total: usize) -> Self {
+        use std::io::IsTerminal as _;
+        Progress {
+            total,
+            done: 0,
+            terminal: std::io::stderr().is_terminal(),
+            started: std::time::Instant::now(),
+        }
+    }
+
+    fn show(&mut self, label: &str) {
+        const WIDTH: usize = 30;
+        let filled = WIDTH * self.done / self.total.max(1);
+        let bar = format!("[{}{}]", "#".repeat(filled), "-".repeat(WIDTH - filled));
+        let line = format!(
+            "{bar} {}/{} {:>5.1} s  {label}",
+            self.done + 1,
+            self.total,
+            self.started.elapsed().as_secs_f32()
+        );
+        if self.terminal {
+            eprint!("\r\x1b[2K{line}");
+        } else {
+            eprintln!("{line}");
+        }
+        self.done += 1;
+    }
+
+    fn finish(&self) {
+        if self.terminal {
+            eprintln!();
+        }
+        eprintln!(
+            "  {} runs in {:.1} s",
+            self.total,
+            self.started.elapsed().as_secs_f32()
+        );
     }
 }
 

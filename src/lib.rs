@@ -23,15 +23,19 @@
 //! - [`kinematics`]: chain-versus-rod end loci (Fig. 6);
 //! - [`metrics`]: residual dislocation (cm) and angular violation (rad), energy;
 //! - [`sim`]: the run loop and its observer hook;
+//! - [`sweep`]: speed against accuracy over methods and iterations; [`chart`]: its SVG chart;
+//! - [`stress`]: the stability suite, a verdict per method;
 //! - [`record`]: Rerun recording; [`cli`]: the command line.
 
 pub mod body;
+pub mod chart;
 pub mod cli;
 pub mod constraint;
 pub mod contact;
 pub mod kinematics;
 pub mod math;
 pub mod metrics;
+/// Rapier as a peer engine for the sweep (feature `rapier`).
 pub mod ragdoll;
 pub mod record;
 pub mod scene;
@@ -39,4 +43,5 @@ pub mod shape;
 pub mod sim;
 pub mod skeleton;
 pub mod solver;
+pub mod sweep;
 pub mod world;

@@ -38,6 +38,15 @@ pub enum JointFlavour {
     Exact,
 }
 
+impl std::fmt::Display for JointFlavour {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            JointFlavour::Cheap => "cheap",
+            JointFlavour::Exact => "exact",
+        })
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AngularSpring {
     /// Fraction of the angular error removed per iteration, in [0, 1].

@@ -1,0 +1,299 @@
+//! `rodlab sweep SCENE`: speed against accuracy.
+//!
+//! The scene is run headless once per combination of spine, joint flavour, time step and
+//! iteration count. Each run measures
+//! - the cost: the median wall time of `World::step` over the frames after a warm-up, pooled
+//!   over `repeats` runs (the residuals are deterministic, only the time varies);
+//! - the accuracy: the residual after each frame (paper Fig. 8) per ragdoll, as the mean and the
+//!   maximum over frames and ragdolls of the dislocation (cm) and the angular violation (rad).
+//!
+//! A method is a spine and a joint flavour (`rod/exact`); its line on the chart runs through
+//! its iteration counts, so the speed/accuracy frontier is the lower-left envelope of the lines.
+//! A run that stops (NaN or an explosion) keeps its row, with the error, and no residual.
+//!
+//! CSV columns (`recordings/<scene>_sweep.csv`, one row per run, header first):
+//!
+//! | column | meaning |
+//! |---|---|
+//! | `method` | `<spine>/<joint>`, e.g. `rod/exact` |
+//! | `spine` | chain3, rod or single |
+//! | `joint` | cheap or exact |
+//! | `dt` | time step (s) |
+//! | `iterations` | solver iterations per frame |
+//! | `step_us` | median time per step (microseconds) |
+//! | `mean_dislocation_cm`, `max_dislocation_cm` | per ragdoll, over frames |
+//! | `mean_angular_rad`, `max_angular_rad` | per ragdoll, over frames |
+//! | `failed` | empty, or why the run stopped |
+
+use std::time::Instant;
+
+use crate::chart::{Chart, Series};
+use crate::constraint::JointFlavour;
+use crate::metrics::FrameMetrics;
+use crate::ragdoll::SpineKind;
+use crate::scene::{Scene, SceneDef};
+use crate::sim::Overrides;
+
+/// What to sweep.
+#[derive(Clone, Debug)]
+pub struct SweepConfig {
+    pub iterations: Vec<u32>,
+    pub spines: Vec<SpineKind>,
+    pub joints: Vec<JointFlavour>,
+    /// Empty: the scene's own time step.
+    pub dts: Vec<f32>,
+    /// Frames per run; `None` keeps the scene's.
+    pub frames: Option<u32>,
+    /// Runs per combination, pooled for the median step time.
+    pub repeats: u32,
+}
+
+impl Default for SweepConfig {
+    fn default() -> Self {
+        SweepConfig {
+            iterations: vec![1, 2, 4, 8, 16, 32],
+            spines: vec![SpineKind::Chain3, SpineKind::Rod, SpineKind::Single],
+            joints: vec![JointFlavour::Cheap, JointFlavour::Exact],
+            dts: Vec::new(),
+            frames: None,
+            repeats: 3,
+        }
+    }
+}
+
+/// One run of the sweep: a CSV row.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SweepRow {
+    /// `<spine>/<joint>` for rodlab's methods, the engine's name for a peer.
+    pub method: String,
+    pub spine: String,
+    /// cheap or exact for rodlab; the peer's joint kind for a peer.
+    pub joint: String,
+    pub dt: f32,
+    pub iterations: u32,
+    pub step_us: f64,
+    pub mean_dislocation_cm: f64,
+    pub max_dislocation_cm: f64,
+    pub mean_angular_rad: f64,
+    pub max_angular_rad: f64,
+    pub failed: Option<String>,
+}
+
+impl SweepRow {
+    /// A row for `method` before it is measured.
+    pub fn new(method: String, spine: String, joint: String, dt: f32, iterations: u32) -> Self {
+        SweepRow {
+            method,
+            spine,
+            joint,
+            dt,
+            iterations,
+            step_us: 0.0,
+            mean_dislocation_cm: 0.0,
+            max_dislocation_cm: 0.0,
+            mean_angular_rad: 0.0,
+            max_angular_rad: 0.0,
+            failed: None,
+        }
+    }
+}
+
+/// The combinations in run order: method, then time step, then iterations.
+pub fn combinations(def: &SceneDef, config: &SweepConfig) -> Vec<Overrides> {
+    let dts = if config.dts.is_empty() {
+        vec![def.dt]
+    } else {
+        config.dts.clone()
+    };
+    let mut all = Vec::new();
+    for &spine in &config.spines {
+        for &joint in &config.joints {
+            for &dt in &dts {
+                for &iterations in &config.iterations {
+                    all.push(Overrides {
+                        spine: Some(spine),
+                        joint_flavour: Some(joint),
+                        dt: Some(dt),
+                        iterations: Some(iterations),
+                        frames: config.frames,
+                        ..Default::default()
+                    });
+                }
+            }
+        }
+    }
+    all
+}
+
+/// Runs one combination `repeats` times; `scene` is the scene as loaded.
+pub fn run_one(scene: &Scene, overrides: &Overrides, repeats: u32) -> anyhow::Result<SweepRow> {
+    let mut scene = scene.clone();
+    overrides.apply(&mut scene.def);
+    let def = &scene.def;
+    let spine = overrides.spine.unwrap_or_default();
+    let mut row = SweepRow::new(
+        format!("{spine}/{}", def.joint_flavour),
+        spine.to_string(),
+        def.joint_flavour.to_string(),
+        def.dt,
+        def.iterations,
+    );
+    let warm_up = (def.frames / 10).min(30) as usize;
+    let mut times = Vec::with_capacity(repeats as usize * def.frames as usize);
+    let mut metrics = FrameMetrics::default();
+    for repeat in 0..repeats.max(1) {
+        let mut world = scene.build()?;
+        let (mut sum_d, mut sum_a, mut count) = (0.0f64, 0.0f64, 0u64);
+        let (mut max_d, mut max_a) = (0.0f64, 0.0f64);
+        for frame in 0..def.frames as usize {
+            let start = Instant::now();
+            let stepped = world.step();
+            let elapsed = start.elapsed();
+            if let Err(error) = stepped {
+                row.failed = Some(error.to_string());
+                break;
+            }
+            if frame >= warm_up {
+                times.push(elapsed.as_secs_f64() * 1e6);
+            }
+            if repeat == 0 {
+                metrics.measure(&world);
+                for r in &metrics.ragdolls {
+                    sum_d += r.dislocation_cm as f64;
+                    sum_a += r.angular_rad as f64;
+                    max_d = max_d.max(r.dislocation_cm as f64);
+                    max_a = max_a.max(r.angular_rad as f64);
+                    count += 1;
+                }
+            }
+        }
+        if repeat == 0 {
+            let n = count.max(1) as f64;
+            row.mean_dislocation_cm = sum_d / n;
+            row.mean_angular_rad = sum_a / n;
+            row.max_dislocation_cm = max_d;
+            row.max_angular_rad = max_a;
+        }
+        if row.failed.is_some() {
+            break;
+        }
+    }
+    row.step_us = median(&mut times);
+    Ok(row)
+}
+
+/// The median of `values` (sorted in place); NaN when empty.
+pub fn median(values: &mut [f64]) -> f64 {
+    if values.is_empty() {
+        return f64::NAN;
+    }
+    values.sort_unstable_by(f64::total_cmp);
+    values[values.len() / 2]
+}
+
+const HEADER: &str = "method,spine,joint,dt,iterations,step_us,mean_dislocation_cm,\
+max_dislocation_cm,mean_angular_rad,max_angular_rad,failed";
+
+pub fn to_csv(rows: &[SweepRow]) -> String {
+    let mut out = String::from(HEADER);
+    out.push('\n');
+    for r in rows {
+        let failed = r.failed.as_deref().unwrap_or("").replace([',', '\n'], ";");
+        out += &format!(
+            "{},{},{},{},{},{:.3},{:.6},{:.6},{:.6},{:.6},{}\n",
+            r.method,
+            r.spine,
+            r.joint,
+            r.dt,
+            r.iterations,
+            r.step_us,
+            r.mean_dislocation_cm,
+            r.max_dislocation_cm,
+            r.mean_angular_rad,
+            r.max_angular_rad,
+            failed
+        );
+    }
+    out
+}
+
+/// Reads back what [`to_csv`] wrote; errors name the line and the column.
+pub fn parse_csv(text: &str) -> anyhow::Result<Vec<SweepRow>> {
+    use anyhow::{bail, Context as _};
+    let mut lines = text.lines().enumerate();
+    match lines.next() {
+        Some((_, header)) if header == HEADER => {}
+        _ => bail!("line 1: expected the header {HEADER}"),
+    }
+    let mut rows = Vec::new();
+    for (index, line) in lines.filter(|(_, l)| !l.is_empty()) {
+        let fields: Vec<&str> = line.split(',').collect();
+        if fields.len() != 11 {
+            bail!("line {}: {} columns, expected 11", index + 1, fields.len());
+        }
+        let number = |column: usize| -> anyhow::Result<f64> {
+            fields[column].parse::<f64>().with_context(|| {
+                let name = HEADER.split(',').nth(column).unwrap_or("?");
+                format!("line {}: column {name}: not a number", index + 1)
+            })
+        };
+        rows.push(SweepRow {
+            method: fields[0].to_string(),
+            spine: fields[1].to_string(),
+            joint: fields[2].to_string(),
+            dt: number(3)? as f32,
+            iterations: number(4)? as u32,
+            step_us: number(5)?,
+            mean_dislocation_cm: number(6)?,
+            max_dislocation_cm: number(7)?,
+            mean_angular_rad: number(8)?,
+            max_angular_rad: number(9)?,
+            failed: Some(fields[10].to_string()).filter(|s| !s.is_empty()),
+        });
+    }
+    Ok(rows)
+}
+
+/// Residual against time per step, one line per method (and time step, when several).
+pub fn chart(scene: &str, rows: &[SweepRow], machine: &str) -> Chart {
+    let several_dts = rows.iter().any(|r| r.dt != rows[0].dt);
+    let mut series: Vec<Series> = Vec::new();
+    for row in rows.iter().filter(|r| r.failed.is_none()) {
+        let label = if several_dts {
+            format!("{} dt={:.4}", row.method, row.dt)
+        } else {
+            row.method.clone()
+        };
+        let point = (row.step_us, row.mean_dislocation_cm);
+        match series.iter_mut().find(|s| s.label == label) {
+            Some(s) => s.points.push(point),
+            None => series.push(Series {
+                label,
+                points: vec![point],
+            }),
+        }
+    }
+    Chart {
+        title: format!("{scene}: residual after each frame against time per step ({machine})"),
+        x_label: "time per step (us, median)".into(),
+        y_label: "mean dislocation per ragdoll (cm)".into(),
+        x_log: true,
+        y_log: true,
+        series,
+    }
+}
+
+/// The CPU model and core count, to name the machine next to timings.
+pub fn machine_name() -> String {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let model = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|info| {
+            info.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split(':').nth(1))
+                .map(|m| m.trim().to_string())
+        })
+        .unwrap_or_else(|| std::env::consts::ARCH.to_string());
+    format!("{model}, {cores} cores")
+}
