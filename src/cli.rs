@@ -266,7 +266,54 @@ fn sweep(
         svg.display(),
         rrd.display()
     );
+    feature_costs(&scene, out)?;
     Ok(rows)
+}
+
+/// What each modelled feature costs the scene, recording included -> <scene>_features.csv.
+fn feature_costs(scene: &Scene, out: &Path) -> anyhow::Result<()> {
+    let frames = scene.def.frames.min(300);
+    let mut costs = crate::sweep::feature_costs(scene, frames)?;
+    // recording: a whole run with the recorder against one without, per frame
+    let mut short = scene.clone();
+    short.def.frames = frames;
+    let started = std::time::Instant::now();
+    sim::run(&mut short.build()?, frames, &mut sim::NoObserver)?;
+    let headless = started.elapsed().as_secs_f64() * 1e6 / frames as f64;
+    let scratch = std::env::temp_dir().join(format!("rodlab_cost_{}.rrd", scene.name()));
+    let started = std::time::Instant::now();
+    record_scene(&short, record::save_to(&scratch, &short)?)?;
+    let recorded = started.elapsed().as_secs_f64() * 1e6 / frames as f64;
+    std::fs::remove_file(&scratch).ok();
+    costs.push(crate::sweep::FeatureCost {
+        feature: "recording (whole frame)",
+        modelled: true,
+        with_us: recorded,
+        without_us: headless,
+    });
+    println!("  what the scene pays for (median us per frame over {frames} frames):");
+    println!(
+        "  {:<26} {:>9} {:>10} {:>10} {:>8}",
+        "feature", "modelled", "with", "without", "cost"
+    );
+    let mut csv = String::from("feature,modelled,with_us,without_us\n");
+    for c in &costs {
+        println!(
+            "  {:<26} {:>9} {:>10.1} {:>10.1} {:>+7.0}%",
+            c.feature,
+            if c.modelled { "yes" } else { "no" },
+            c.with_us,
+            c.without_us,
+            100.0 * (c.with_us / c.without_us - 1.0)
+        );
+        csv += &format!(
+            "{},{},{:.3},{:.3}\n",
+            c.feature, c.modelled, c.with_us, c.without_us
+        );
+    }
+    let path = out.join(format!("{}_features.csv", scene.name()));
+    std::fs::write(&path, csv).with_context(|| format!("cannot write {}", path.display()))?;
+    Ok(())
 }
 
 /// A one-line progress bar on a terminal; one line per run otherwise (CI logs).

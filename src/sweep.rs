@@ -297,3 +297,80 @@ pub fn machine_name() -> String {
         .unwrap_or_else(|| std::env::consts::ARCH.to_string());
     format!("{model}, {cores} cores")
 }
+
+/// What one modelled feature costs in a scene: the median time with it and without it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FeatureCost {
+    pub feature: &'static str,
+    /// Whether the scene as written models it.
+    pub modelled: bool,
+    /// Median microseconds per frame with the feature on and off.
+    pub with_us: f64,
+    pub without_us: f64,
+}
+
+/// Times the scene's step with and without contacts and joint limits, and the frame's measure
+/// with and without the animation-bone mapping (§6), each over `frames` frames. A feature the
+/// scene does not model is timed switched on, to show what it would cost. Recording is timed
+/// by the caller, which owns the recorder.
+pub fn feature_costs(scene: &Scene, frames: u32) -> anyhow::Result<Vec<FeatureCost>> {
+    use crate::constraint::Constraint;
+    let base = scene.build()?;
+    let has_limits = base
+        .constraints
+        .iter()
+        .any(|c| matches!(c, Constraint::BallSocket(j) if j.limit.is_some()));
+    let has_bones = base.ragdolls.iter().any(|r| r.skeleton.is_some());
+    let time = |edit: &dyn Fn(&mut crate::world::World), measure: bool| -> anyhow::Result<f64> {
+        let mut world = scene.build()?;
+        edit(&mut world);
+        let mut metrics = FrameMetrics::default();
+        let mut times = Vec::with_capacity(frames as usize);
+        for frame in 0..frames {
+            let start = Instant::now();
+            if measure {
+                metrics.measure(&world);
+            } else {
+                world.step()?;
+            }
+            if frame >= frames / 10 {
+                times.push(start.elapsed().as_secs_f64() * 1e6);
+            }
+            if measure {
+                world.step()?;
+            }
+        }
+        Ok(median(&mut times))
+    };
+    let contacts = |on: bool| move |w: &mut crate::world::World| w.settings.contacts = on;
+    let no_limits = |w: &mut crate::world::World| {
+        for c in &mut w.constraints {
+            if let Constraint::BallSocket(joint) = c {
+                joint.limit = None;
+            }
+        }
+    };
+    let no_bones =
+        |w: &mut crate::world::World| w.ragdolls.iter_mut().for_each(|r| r.skeleton = None);
+    let keep = |_: &mut crate::world::World| {};
+    Ok(vec![
+        FeatureCost {
+            feature: "contacts",
+            modelled: base.settings.contacts,
+            with_us: time(&contacts(true), false)?,
+            without_us: time(&contacts(false), false)?,
+        },
+        FeatureCost {
+            feature: "joint limits",
+            modelled: has_limits,
+            with_us: time(&keep, false)?,
+            without_us: time(&no_limits, false)?,
+        },
+        FeatureCost {
+            feature: "bone mapping (measure)",
+            modelled: has_bones,
+            with_us: time(&keep, true)?,
+            without_us: time(&no_bones, true)?,
+        },
+    ])
+}

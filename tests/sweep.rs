@@ -115,3 +115,31 @@ fn csv_columns_are_documented_and_read_back() {
         "{error}"
     );
 }
+
+/// A scene without contacts does no collision work at all: the contact storage is never
+/// touched. The same scene with contacts on does fill it, so the check can fail.
+#[test]
+fn a_scene_without_contacts_pays_nothing_for_collision_detection() {
+    let scene = Scene::load(format!("{SCENES}/passive_bending.toml")).unwrap();
+    assert!(!scene.def.contacts);
+    for contacts in [false, true] {
+        let mut world = scene.build().unwrap();
+        world.settings.contacts = contacts;
+        for _ in 0..60 {
+            world.step().unwrap();
+        }
+        let touched = world.contacts.points.capacity() > 0;
+        assert_eq!(touched, contacts, "contacts = {contacts}");
+    }
+    let costs = sweep::feature_costs(&scene, 20).unwrap();
+    let names: Vec<(&str, bool)> = costs.iter().map(|c| (c.feature, c.modelled)).collect();
+    assert_eq!(
+        names,
+        [
+            ("contacts", false),
+            ("joint limits", true),
+            ("bone mapping (measure)", true)
+        ]
+    );
+    assert!(costs.iter().all(|c| c.with_us > 0.0 && c.without_us > 0.0));
+}
