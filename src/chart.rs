@@ -103,6 +103,33 @@ impl Chart {
         }
         svg.0 + "</svg>\n"
     }
+
+    /// The chart rasterised to PNG bytes (resvg, with the system's sans-serif font for text).
+    pub fn to_png(&self) -> anyhow::Result<Vec<u8>> {
+        let mut options = resvg::usvg::Options::default();
+        let fonts = options.fontdb_mut();
+        fonts.load_system_fonts();
+        // fontdb maps sans-serif to Arial; use a sans face this machine has
+        let installed = |name: &str| {
+            fonts
+                .faces()
+                .any(|face| face.families.iter().any(|(family, _)| family == name))
+        };
+        let family = ["DejaVu Sans", "Liberation Sans", "Noto Sans", "Arial"]
+            .into_iter()
+            .find(|name| installed(name))
+            .map(str::to_string)
+            .or_else(|| Some(fonts.faces().next()?.families.first()?.0.clone()));
+        if let Some(family) = family {
+            fonts.set_sans_serif_family(family);
+        }
+        let tree = resvg::usvg::Tree::from_str(&self.to_svg(), &options)?;
+        let size = tree.size().to_int_size();
+        let mut pixmap = resvg::tiny_skia::Pixmap::new(size.width(), size.height())
+            .ok_or_else(|| anyhow::anyhow!("chart has an empty size"))?;
+        resvg::render(&tree, Default::default(), &mut pixmap.as_mut());
+        Ok(pixmap.encode_png()?)
+    }
 }
 
 struct Svg(String);

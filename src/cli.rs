@@ -256,12 +256,16 @@ fn sweep(
     std::fs::write(&csv, sweep::to_csv(&rows))
         .with_context(|| format!("cannot write {}", csv.display()))?;
     let svg = out.join(format!("{name}_sweep.svg"));
-    std::fs::write(&svg, sweep::chart(&name, &rows, &machine).to_svg())
+    let chart = sweep::chart(&name, &rows, &machine);
+    std::fs::write(&svg, chart.to_svg())
         .with_context(|| format!("cannot write {}", svg.display()))?;
+    let png = out.join(format!("{name}_sweep.png"));
+    std::fs::write(&png, chart.to_png()?)
+        .with_context(|| format!("cannot write {}", png.display()))?;
     let rrd = out.join(format!("{name}_sweep.rrd"));
     record::save_sweep(&rrd, &name, &rows, &machine)?;
     println!(
-        "  -> {}, {}, {}",
+        "  -> {}, {} (and .png), {}",
         csv.display(),
         svg.display(),
         rrd.display()
