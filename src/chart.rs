@@ -13,8 +13,16 @@ const RIGHT: f64 = 690.0;
 const TOP: f64 = 50.0;
 const BOTTOM: f64 = 490.0;
 /// Okabe-Ito (colour-blind friendly), reordered so that the faint yellow comes last.
-const PALETTE: [&str; 8] = [
-    "#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#000000", "#F0E442",
+/// Shared with the recording, so a method has one colour in the chart and in the viewer.
+pub const PALETTE: [[u8; 3]; 8] = [
+    [0x00, 0x72, 0xB2],
+    [0xD5, 0x5E, 0x00],
+    [0x00, 0x9E, 0x73],
+    [0xCC, 0x79, 0xA7],
+    [0xE6, 0x9F, 0x00],
+    [0x56, 0xB4, 0xE9],
+    [0x00, 0x00, 0x00],
+    [0xF0, 0xE4, 0x42],
 ];
 /// Longer legend labels are cut so that the legend stays inside the image.
 const LEGEND_CHARS: usize = 22;
@@ -83,7 +91,8 @@ impl Chart {
         svg.text((24.0, middle), &rotated, &self.y_label);
 
         for (i, series) in self.series.iter().enumerate() {
-            let colour = PALETTE[i % PALETTE.len()];
+            let [r, g, b] = PALETTE[i % PALETTE.len()];
+            let colour = format!("#{r:02X}{g:02X}{b:02X}");
             let to_pixel = |&(x, y): &(f64, f64)| {
                 Some((x_pixel(x_axis.fraction(x)?), y_pixel(y_axis.fraction(y)?)))
             };

@@ -260,10 +260,10 @@ fn sweep(
     std::fs::write(&svg, chart.to_svg())
         .with_context(|| format!("cannot write {}", svg.display()))?;
     let png = out.join(format!("{name}_sweep.png"));
-    std::fs::write(&png, chart.to_png()?)
-        .with_context(|| format!("cannot write {}", png.display()))?;
+    let png_bytes = chart.to_png()?;
+    std::fs::write(&png, &png_bytes).with_context(|| format!("cannot write {}", png.display()))?;
     let rrd = out.join(format!("{name}_sweep.rrd"));
-    record::save_sweep(&rrd, &name, &rows, &machine)?;
+    record::save_sweep(&rrd, &name, &rows, &machine, &png_bytes)?;
     println!(
         "  -> {}, {} (and .png), {}",
         csv.display(),

@@ -698,15 +698,16 @@ pub fn record_kinematics(rec: &RecordingStream, scene: &Scene) -> anyhow::Result
     Ok(gaps)
 }
 
-/// Writes a sweep's rows to `path`: per method, the mean dislocation and the step time against
-/// an `iterations` timeline (two plots), and the frontier in a 2D view, x = log10 of the time
-/// per step (us), y = log10 of the mean dislocation (cm), so faster is left and, since 2D views
-/// grow y downward, more accurate is up. The CSV and the machine go in as a text document.
+/// Writes a sweep's rows to `path`: the chart itself (the PNG the sweep wrote) in a 2D view,
+/// and per method the log10 of the mean dislocation and the time per step against an
+/// `iterations` timeline (Rerun's plots have no log axis, and the residual spans four decades).
+/// The CSV and the machine go in as a text document.
 pub fn save_sweep(
     path: &Path,
     scene: &str,
     rows: &[crate::sweep::SweepRow],
     machine: &str,
+    chart_png: &[u8],
 ) -> anyhow::Result<()> {
     use rerun::blueprint::Spatial2DView;
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
@@ -714,8 +715,8 @@ pub fn save_sweep(
     }
     let plots = Vertical::new([
         ContainerLike::from(
-            TimeSeriesView::new("Mean dislocation (cm) by iterations")
-                .with_origin("sweep/residual"),
+            TimeSeriesView::new("log10 mean dislocation (cm) by iterations")
+                .with_origin("sweep/residual_log10"),
         ),
         ContainerLike::from(
             TimeSeriesView::new("Time per step (us) by iterations").with_origin("sweep/step_us"),
@@ -723,14 +724,13 @@ pub fn save_sweep(
     ]);
     let left = Tabs::new([
         ContainerLike::from(
-            Spatial2DView::new("Frontier: left = faster, up = more accurate (log10)")
-                .with_origin("sweep/frontier"),
+            Spatial2DView::new("Residual against time per step").with_origin("sweep/chart"),
         ),
         ContainerLike::from(TextDocumentView::new("Sweep CSV").with_origin("sweep/table")),
     ]);
     let blueprint = Blueprint::new(
         Horizontal::new([ContainerLike::from(left), ContainerLike::from(plots)])
-            .with_column_shares([0.55, 0.45]),
+            .with_column_shares([0.6, 0.4]),
     )
     .with_auto_views(false);
     let rec = rerun::RecordingStreamBuilder::new(APPLICATION_ID)
@@ -746,73 +746,39 @@ pub fn save_sweep(
         ))
         .with_media_type(rerun::MediaType::markdown()),
     )?;
-    let mut methods: Vec<String> = rows.iter().map(|r| r.method.clone()).collect();
+    rec.log_static(
+        "sweep/chart",
+        &rerun::EncodedImage::from_file_contents(chart_png.to_vec()),
+    )?;
+    let mut methods: Vec<&str> = rows.iter().map(|r| r.method.as_str()).collect();
     methods.dedup();
-    let palette = [
-        [0, 114, 178],
-        [213, 94, 0],
-        [0, 158, 115],
-        [204, 121, 167],
-        [230, 159, 0],
-        [86, 180, 233],
-    ];
     for (index, method) in methods.iter().enumerate() {
-        let [r, g, b] = palette[index % palette.len()];
+        let [r, g, b] = crate::chart::PALETTE[index % crate::chart::PALETTE.len()];
         let color = rerun::Color::from_rgb(r, g, b);
-        let ok: Vec<_> = rows
-            .iter()
-            .filter(|row| &row.method == method && row.failed.is_none())
-            .collect();
-        for (kind, value) in [("residual", 0), ("step_us", 1)] {
+        for kind in ["residual_log10", "step_us"] {
             rec.log_static(
                 format!("sweep/{kind}/{method}"),
                 &rerun::SeriesLines::new()
                     .with_colors([color])
-                    .with_names([method.as_str()]),
+                    .with_names([*method]),
             )?;
-            for row in &ok {
-                rec.set_time_sequence("iterations", row.iterations as i64);
-                let y = if value == 0 {
-                    row.mean_dislocation_cm
-                } else {
-                    row.step_us
-                };
-                rec.log(format!("sweep/{kind}/{method}"), &rerun::Scalars::single(y))?;
-            }
         }
-        let points: Vec<[f32; 2]> = ok
+        for row in rows
             .iter()
-            .filter(|row| row.step_us > 0.0 && row.mean_dislocation_cm > 0.0)
-            .map(|row| {
-                [
-                    row.step_us.log10() as f32,
-                    row.mean_dislocation_cm.log10() as f32,
-                ]
-            })
-            .collect();
-        let labels: Vec<String> = ok
-            .iter()
-            .filter(|row| row.step_us > 0.0 && row.mean_dislocation_cm > 0.0)
-            .map(|row| {
-                format!(
-                    "{method} it={}: {:.0} us, {:.3} cm",
-                    row.iterations, row.step_us, row.mean_dislocation_cm
-                )
-            })
-            .collect();
-        rec.log_static(
-            format!("sweep/frontier/{method}/line"),
-            &rerun::LineStrips2D::new([points.clone()])
-                .with_colors([color])
-                .with_labels([method.as_str()]),
-        )?;
-        rec.log_static(
-            format!("sweep/frontier/{method}/points"),
-            &rerun::Points2D::new(points)
-                .with_colors([color])
-                .with_radii([0.01])
-                .with_labels(labels),
-        )?;
+            .filter(|row| row.method == *method && row.failed.is_none())
+        {
+            rec.set_time_sequence("iterations", row.iterations as i64);
+            if row.mean_dislocation_cm > 0.0 {
+                rec.log(
+                    format!("sweep/residual_log10/{method}"),
+                    &rerun::Scalars::single(row.mean_dislocation_cm.log10()),
+                )?;
+            }
+            rec.log(
+                format!("sweep/step_us/{method}"),
+                &rerun::Scalars::single(row.step_us),
+            )?;
+        }
     }
     rec.flush_blocking()?;
     Ok(())
