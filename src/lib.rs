@@ -43,5 +43,6 @@ pub mod shape;
 pub mod sim;
 pub mod skeleton;
 pub mod solver;
+pub mod stress;
 pub mod sweep;
 pub mod world;
