@@ -311,18 +311,27 @@ fn sweep(
     out: &Path,
 ) -> anyhow::Result<Vec<crate::sweep::SweepRow>> {
     use crate::sweep;
-    if let Some(peer) = peer {
-        anyhow::bail!(
-            "--peer {peer}: no peer engine is built into rodlab yet (the Rapier peer is still \
-             to do); run the sweep without --peer"
-        );
+    match peer {
+        None => {}
+        Some("rapier") if cfg!(feature = "rapier") => {}
+        Some("rapier") => anyhow::bail!(
+            "--peer rapier: this rodlab was built without the Rapier peer; run \
+             `cargo run --release --features rapier -- sweep ...`"
+        ),
+        Some(other) => anyhow::bail!("--peer {other}: unknown peer engine (known: rapier)"),
     }
     let scene = Scene::load(path)?;
     let name = scene.name();
     let combinations = sweep::combinations(&scene.def, config);
     let machine = sweep::machine_name();
-    println!("== sweep {name}: {} runs on {machine}", combinations.len());
-    let mut progress = Progress::new(combinations.len());
+    let peer_runs = if peer.is_some() {
+        config.iterations.len() * config.dts.len().max(1)
+    } else {
+        0
+    };
+    let runs = combinations.len() + peer_runs;
+    println!("== sweep {name}: {runs} runs on {machine}");
+    let mut progress = Progress::new(runs);
     let mut rows = Vec::with_capacity(combinations.len());
     for overrides in &combinations {
         progress.show(&format!(
@@ -333,6 +342,9 @@ fn sweep(
             overrides.iterations.unwrap_or(scene.def.iterations)
         ));
         rows.push(sweep::run_one(&scene, overrides, config.repeats)?);
+    }
+    if peer.is_some() {
+        rows.extend(peer_rows(&scene, config, &mut progress)?);
     }
     progress.finish();
     println!(
@@ -378,6 +390,48 @@ fn sweep(
     );
     feature_costs(&scene, out)?;
     Ok(rows)
+}
+
+/// The peer's rows: the scene with chain3 spines (Rapier has no rod), per time step and
+/// iteration count (Rapier's `num_solver_iterations`).
+#[cfg(feature = "rapier")]
+fn peer_rows(
+    scene: &Scene,
+    config: &crate::sweep::SweepConfig,
+    progress: &mut Progress,
+) -> anyhow::Result<Vec<crate::sweep::SweepRow>> {
+    let dts = if config.dts.is_empty() {
+        vec![scene.def.dt]
+    } else {
+        config.dts.clone()
+    };
+    let mut rows = Vec::new();
+    for dt in dts {
+        for &iterations in &config.iterations {
+            progress.show(&format!("rapier dt={dt:.4} iterations={iterations}"));
+            let mut peer_scene = scene.clone();
+            Overrides {
+                spine: Some(SpineKind::Chain3),
+                dt: Some(dt),
+                frames: config.frames,
+                ..Default::default()
+            }
+            .apply(&mut peer_scene.def);
+            let mut row = crate::peer::run(&peer_scene, iterations, config.repeats)?;
+            row.method = format!("{}/{}", row.method, row.spine);
+            rows.push(row);
+        }
+    }
+    Ok(rows)
+}
+
+#[cfg(not(feature = "rapier"))]
+fn peer_rows(
+    _: &Scene,
+    _: &crate::sweep::SweepConfig,
+    _: &mut Progress,
+) -> anyhow::Result<Vec<crate::sweep::SweepRow>> {
+    anyhow::bail!("--peer rapier: built without the feature `rapier`")
 }
 
 /// What each modelled feature costs the scene, recording included -> <scene>_features.csv.

@@ -36,6 +36,8 @@ pub mod kinematics;
 pub mod math;
 pub mod metrics;
 /// Rapier as a peer engine for the sweep (feature `rapier`).
+#[cfg(feature = "rapier")]
+pub mod peer;
 pub mod ragdoll;
 pub mod record;
 pub mod scene;
