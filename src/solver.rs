@@ -16,7 +16,8 @@
 //! 3. `iterations` times: solve every constraint once in its stored order (joints, rods and
 //!    targets as the builders appended them), then every contact point;
 //! 4. derive the velocities `v = (p* - p) / dt`, `w = log(q* q^-1) / dt` and commit the poses;
-//!    then restitution, a velocity pass over the contacts that bounced;
+//!    then the contacts' velocity pass: each contact that pushed leaves with zero relative
+//!    normal velocity, or bounces (restitution);
 //! 5. check every body for NaN and for speeds above the explosion bounds, then the caller
 //!    measures residuals on the final poses (paper Fig. 8).
 //!
@@ -83,7 +84,7 @@ pub fn step(world: &mut World) -> Result<(), SimulationError> {
     if world.settings.contacts {
         // bounces slower than two steps of free fall stay inelastic
         let threshold = 2.0 * gravity.length() * dt;
-        world.contacts.restitute(&mut world.bodies, threshold);
+        world.contacts.velocity_pass(&mut world.bodies, threshold);
     }
     world.frame += 1;
     world.time += dt as f64;

@@ -62,14 +62,16 @@ fn thirty_ragdolls_land_and_settle_and_the_rod_spine_leaves_less_residual() {
             100.0 * resting
         );
         // Nearly at rest: a few limbs caught between stair boxes and other ragdolls still
-        // twitch (measured: fastest centre 0.08 m/s chain3, 0.24 m/s rod (a shank); fastest
-        // point 0.27 and 0.48 m/s; 99.5% and 97.9% of bodies under 0.2 m/s everywhere).
+        // twitch, mostly twisting about their long axis (measured: fastest centre 0.20 m/s
+        // chain3, 0.25 m/s rod; fastest surface point 0.64 and 0.52 m/s; 98.5% and 98.2% of
+        // bodies under 0.2 m/s everywhere; these move by a few tenths with any change to the
+        // order contacts are found in, so the bounds leave room).
         assert!(
-            fastest_centre < 0.3,
+            fastest_centre < 0.35,
             "{spine}: a body centre still moves at {fastest_centre} m/s after 10 s"
         );
         assert!(
-            fastest_point < 0.75,
+            fastest_point < 1.0,
             "{spine}: a body's surface still moves at {fastest_point} m/s after 10 s"
         );
         assert!(

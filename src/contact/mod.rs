@@ -17,7 +17,7 @@
 //! iterations are pulled back instead of adding up to creep (the same role as Box2D's anchors
 //! and warm starting); a sliding contact starts fresh anchors each step. Friction coefficients
 //! combine as the geometric mean. Restitution is a velocity pass after the positions (see
-//! [`Contacts::restitute`]); a pair uses the larger coefficient.
+//! [`Contacts::velocity_pass`]); a pair uses the larger coefficient.
 //!
 //! Filtering: bodies joined by a joint (unless `collide_connected`) or a rod never collide, and
 //! a pair collides only if each body's group bits meet the other's mask bits.
@@ -124,27 +124,18 @@ pub struct Contacts {
     broad_phase: BroadPhase,
     features: Vec<Feature>,
     pairs: Vec<(u32, u32)>,
-    /// Sorted body pairs that never collide, and the constraint count they were built for.
-    excluded: Vec<(u32, u32)>,
+    /// Bodies that never collide with body `i` (joined to it): `excluded[excluded_start[i]..
+    /// excluded_start[i + 1]]`, a handful per body; and the constraint count they were built for.
+    excluded: Vec<u32>,
+    excluded_start: Vec<u32>,
     excluded_for: usize,
 }
 
 impl Contacts {
     /// Step 2 of the solver: finds the contact points at the current poses.
     pub fn detect(&mut self, bodies: &[Body], constraints: &[Constraint], dt: f32, margin: f32) {
-        if self.excluded_for != constraints.len()
-            || self.excluded.is_empty() && !constraints.is_empty()
-        {
-            self.excluded.clear();
-            for c in constraints {
-                let connected = matches!(c, Constraint::BallSocket(j) if j.collide_connected);
-                if !connected {
-                    let (a, b) = c.bodies();
-                    self.excluded.push((a.0.min(b.0), a.0.max(b.0)));
-                }
-            }
-            self.excluded.sort_unstable();
-            self.excluded_for = constraints.len();
+        if self.excluded_for != constraints.len() || self.excluded_start.len() != bodies.len() + 1 {
+            self.build_exclusions(bodies.len(), constraints);
         }
         std::mem::swap(&mut self.points, &mut self.previous);
         self.previous
@@ -155,8 +146,10 @@ impl Contacts {
         self.broad_phase
             .find_pairs(bodies, dt, margin, |a, b| pairs.push((a, b)));
         for &(a, b) in &self.pairs {
-            let key = (a.min(b), a.max(b));
-            if self.excluded.binary_search(&key).is_ok() {
+            let (first, last) = (a.min(b) as usize, a.max(b) as u32);
+            let range =
+                self.excluded_start[first] as usize..self.excluded_start[first + 1] as usize;
+            if self.excluded[range].contains(&last) {
                 continue;
             }
             let (body_a, body_b) = (&bodies[a as usize], &bodies[b as usize]);
@@ -214,6 +207,34 @@ impl Contacts {
         }
     }
 
+    /// Rebuilds the per-body lists of joined bodies (each pair under its lower body index).
+    fn build_exclusions(&mut self, body_count: usize, constraints: &[Constraint]) {
+        let joined = || {
+            constraints.iter().filter_map(|c| {
+                let connected = matches!(c, Constraint::BallSocket(j) if j.collide_connected);
+                let (a, b) = c.bodies();
+                (!connected).then_some((a.0.min(b.0), a.0.max(b.0)))
+            })
+        };
+        self.excluded_start.clear();
+        self.excluded_start.resize(body_count + 1, 0);
+        for (low, _) in joined() {
+            self.excluded_start[low as usize + 1] += 1;
+        }
+        for i in 0..body_count {
+            self.excluded_start[i + 1] += self.excluded_start[i];
+        }
+        self.excluded.clear();
+        self.excluded
+            .resize(self.excluded_start[body_count] as usize, 0);
+        let mut filled = self.excluded_start.clone();
+        for (low, high) in joined() {
+            self.excluded[filled[low as usize] as usize] = high;
+            filled[low as usize] += 1;
+        }
+        self.excluded_for = constraints.len();
+    }
+
     /// One iteration over all contact points.
     pub fn solve(&mut self, bodies: &mut [Body]) {
         for point in &mut self.points {
@@ -222,22 +243,30 @@ impl Contacts {
         }
     }
 
-    /// Step 4b of the solver: restitution. For points that took a normal impulse and were
-    /// approaching faster than `threshold` (m/s) when found, set the derived normal velocity to
-    /// `-e` times that approach speed (Mueller et al. 2020); slower impacts stay inelastic so
-    /// resting contacts do not jitter.
-    pub fn restitute(&self, bodies: &mut [Body], threshold: f32) {
-        for p in self.points.iter().filter(|p| {
-            p.restitution > 0.0 && p.normal_impulse > 0.0 && p.approach_speed < -threshold
-        }) {
+    /// Step 4b of the solver: the contacts' velocity pass (Mueller et al. 2020, XPBD rigid
+    /// bodies). For every point that pushed this step, set the relative normal velocity of its
+    /// two points to `-e` times the approach speed it had when found, if that approach was
+    /// faster than `threshold` (m/s, a bounce), and to zero otherwise. The zero matters as much
+    /// as the bounce: a position correction turns into velocity when velocities are derived
+    /// from positions, so a body pushed out of a penetration would leave with that speed and
+    /// come back next step; in a pile those kicks settle into a flip every frame (limbs
+    /// twitching at 0.1 m/s and 3 rad/s after 10 s, before this pass removed them).
+    pub fn velocity_pass(&self, bodies: &mut [Body], threshold: f32) {
+        for p in self.points.iter().filter(|p| p.normal_impulse > 0.0) {
             let (a, b) = pair_mut(bodies, p.body_a.index(), p.body_b.index());
             let (pa, pb) = (a.world_point(p.local_a), b.world_point(p.local_b));
             let (ra, rb) = (pa - a.position, pb - b.position);
             let now = relative_normal_velocity(a, b, pa, pb, p.normal);
-            let change = -p.restitution * p.approach_speed - now;
+            let bounce = p.restitution > 0.0 && p.approach_speed < -threshold;
+            let target = if bounce {
+                -p.restitution * p.approach_speed
+            } else {
+                0.0
+            };
+            let change = target - now;
             let w =
                 a.positional_inverse_mass(ra, p.normal) + b.positional_inverse_mass(rb, p.normal);
-            if change > 0.0 && w > 0.0 {
+            if change != 0.0 && w > 0.0 {
                 let impulse = (change / w) * p.normal;
                 a.apply_velocity_impulse(-impulse, ra);
                 b.apply_velocity_impulse(impulse, rb);
