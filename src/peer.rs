@@ -1,6 +1,6 @@
 //! Rapier (`rapier3d` 0.36) as a peer engine on the speed/accuracy chart of [`crate::sweep`]:
 //! the same scene, built from rodlab's own [`World`] so both engines start from the identical
-//! state, stepped by Rapier and measured by rodlab's [`FrameMetrics`] after every step.
+//! state, stepped by Rapier and measured by rodlab's [`crate::metrics::FrameMetrics`] after every step.
 //!
 //! Mapped one to one:
 //! - bodies: fixed, dynamic, kinematic (velocity based: it moves with its prescribed velocity,
@@ -54,11 +54,10 @@ use rapier3d::prelude::{
 use crate::body::{Body, BodyKind};
 use crate::constraint::{BallSocket, Constraint};
 use crate::math::{Quat, Vec3};
-use crate::metrics::FrameMetrics;
 use crate::ragdoll::SpineKind;
 use crate::scene::Scene;
 use crate::shape::{Axis, Shape};
-use crate::sweep::{median, SweepRow};
+use crate::sweep::SweepRow;
 use crate::world::{Settings, World};
 
 /// A rodlab world rebuilt in Rapier; body `i` of the world is `handles[i]`.
@@ -146,57 +145,41 @@ pub fn run(scene: &Scene, iterations: u32, repeats: u32) -> anyhow::Result<Sweep
     } else {
         spines.join("+")
     };
-    let mut row = SweepRow::new(
+    let row = SweepRow::new(
         "rapier".into(),
         spine,
         "spherical".into(),
         def.dt,
         iterations,
     );
-    let warm_up = (def.frames / 10).min(30) as usize;
-    let mut times = Vec::with_capacity(repeats as usize * def.frames as usize);
-    let mut metrics = FrameMetrics::default();
-    for repeat in 0..repeats.max(1) {
-        let mut world = scene.build()?;
-        let mut peer = RapierWorld::new(&world, iterations)?;
-        let (mut sum_d, mut sum_a, mut count) = (0.0f64, 0.0f64, 0u64);
-        let (mut max_d, mut max_a) = (0.0f64, 0.0f64);
-        for frame in 0..def.frames as usize {
-            let start = Instant::now();
-            peer.step();
-            let elapsed = start.elapsed();
-            peer.write_back(&mut world);
-            if let Err(error) = world.check_health() {
-                row.failed = Some(error.to_string());
-                break;
-            }
-            if frame >= warm_up {
-                times.push(elapsed.as_secs_f64() * 1e6);
-            }
-            if repeat == 0 {
-                metrics.measure(&world);
-                for r in &metrics.ragdolls {
-                    sum_d += r.dislocation_cm as f64;
-                    sum_a += r.angular_rad as f64;
-                    max_d = max_d.max(r.dislocation_cm as f64);
-                    max_a = max_a.max(r.angular_rad as f64);
-                    count += 1;
-                }
-            }
-        }
-        if repeat == 0 {
-            let n = count.max(1) as f64;
-            row.mean_dislocation_cm = sum_d / n;
-            row.mean_angular_rad = sum_a / n;
-            row.max_dislocation_cm = max_d;
-            row.max_angular_rad = max_a;
-        }
-        if row.failed.is_some() {
-            break;
-        }
+    crate::sweep::time_and_measure(row, def.frames, repeats, || {
+        let world = scene.build()?;
+        let peer = RapierWorld::new(&world, iterations)?;
+        Ok(PeerRun { world, peer })
+    })
+}
+
+/// A Rapier world and the rodlab world its poses are copied into for measuring.
+struct PeerRun {
+    world: World,
+    peer: RapierWorld,
+}
+
+impl crate::sweep::Timed for PeerRun {
+    fn step_timed(&mut self) -> Result<f64, String> {
+        let start = Instant::now();
+        self.peer.step();
+        let elapsed = start.elapsed().as_secs_f64() * 1e6;
+        self.peer.write_back(&mut self.world);
+        self.world
+            .check_health()
+            .map(|()| elapsed)
+            .map_err(|e| e.to_string())
     }
-    row.step_us = median(&mut times);
-    Ok(row)
+
+    fn measured(&self) -> &World {
+        &self.world
+    }
 }
 
 fn rigid_body(b: &Body, s: &Settings) -> RigidBody {

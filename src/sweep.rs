@@ -33,6 +33,7 @@ use crate::metrics::FrameMetrics;
 use crate::ragdoll::SpineKind;
 use crate::scene::{Scene, SceneDef};
 use crate::sim::Overrides;
+use crate::world::World;
 
 /// What to sweep.
 #[derive(Clone, Debug)]
@@ -131,33 +132,68 @@ pub fn run_one(scene: &Scene, overrides: &Overrides, repeats: u32) -> anyhow::Re
     overrides.apply(&mut scene.def);
     let def = &scene.def;
     let spine = overrides.spine.unwrap_or_default();
-    let mut row = SweepRow::new(
+    let row = SweepRow::new(
         format!("{spine}/{}", def.joint_flavour),
         spine.to_string(),
         def.joint_flavour.to_string(),
         def.dt,
         def.iterations,
     );
-    let warm_up = (def.frames / 10).min(30) as usize;
-    let mut times = Vec::with_capacity(repeats as usize * def.frames as usize);
+    let frames = def.frames;
+    time_and_measure(row, frames, repeats, || Ok(scene.build()?))
+}
+
+/// An engine the sweep can time frame by frame, with a rodlab world to measure.
+pub trait Timed {
+    /// Advances one frame: the wall time of the engine's step alone (us), or why it stopped.
+    fn step_timed(&mut self) -> Result<f64, String>;
+    /// The world whose residuals are measured after each frame (not timed).
+    fn measured(&self) -> &World;
+}
+
+impl Timed for World {
+    fn step_timed(&mut self) -> Result<f64, String> {
+        let start = Instant::now();
+        let stepped = self.step();
+        let elapsed = start.elapsed().as_secs_f64() * 1e6;
+        stepped.map(|()| elapsed).map_err(|e| e.to_string())
+    }
+
+    fn measured(&self) -> &World {
+        self
+    }
+}
+
+/// Fills `row`: runs `build()` for `frames` frames `repeats` times; the step time is the median
+/// over the frames after a warm-up (a tenth of the run, at most 30 frames), pooled over the
+/// repeats; the residuals come from the first repeat (they are deterministic). Shared by
+/// rodlab's runs and the peer's, so both are measured the same way.
+pub fn time_and_measure<T: Timed>(
+    mut row: SweepRow,
+    frames: u32,
+    repeats: u32,
+    mut build: impl FnMut() -> anyhow::Result<T>,
+) -> anyhow::Result<SweepRow> {
+    let warm_up = (frames / 10).min(30) as usize;
+    let mut times = Vec::with_capacity(repeats as usize * frames as usize);
     let mut metrics = FrameMetrics::default();
     for repeat in 0..repeats.max(1) {
-        let mut world = scene.build()?;
+        let mut engine = build()?;
         let (mut sum_d, mut sum_a, mut count) = (0.0f64, 0.0f64, 0u64);
         let (mut max_d, mut max_a) = (0.0f64, 0.0f64);
-        for frame in 0..def.frames as usize {
-            let start = Instant::now();
-            let stepped = world.step();
-            let elapsed = start.elapsed();
-            if let Err(error) = stepped {
-                row.failed = Some(error.to_string());
-                break;
-            }
+        for frame in 0..frames as usize {
+            let elapsed = match engine.step_timed() {
+                Ok(elapsed) => elapsed,
+                Err(error) => {
+                    row.failed = Some(error);
+                    break;
+                }
+            };
             if frame >= warm_up {
-                times.push(elapsed.as_secs_f64() * 1e6);
+                times.push(elapsed);
             }
             if repeat == 0 {
-                metrics.measure(&world);
+                metrics.measure(engine.measured());
                 for r in &metrics.ragdolls {
                     sum_d += r.dislocation_cm as f64;
                     sum_a += r.angular_rad as f64;

@@ -2,10 +2,10 @@
 //!
 //! Each finite body gets an axis-aligned box around its bounding sphere, grown by the distance
 //! it may travel this step and the contact margin. The cell size is four times the mean box
-//! half-size of the movable bodies (measured 10-20% faster than twice), so a limb covers
-//! one to eight cells. Every body is entered
-//! once per cell its box touches, as a `(cell key, body)` entry; sorting the entries groups each
-//! cell's bodies, and the boxes of each group are tested pairwise. A pair is reported only from
+//! half-size of the movable bodies (measured 10-20% faster than twice), so a limb covers one
+//! to eight cells. Every body is entered once per cell its box touches, as a `(cell key, body)`
+//! entry; sorting the entries groups each cell's bodies, and the boxes of each group are tested
+//! pairwise. A pair is reported only from
 //! the cell that holds the lower corner of the two boxes' overlap, so it is reported once.
 //! Boxes much larger than a cell (static world pieces) are kept apart and tested against every
 //! other box, which costs `large x n`. Half-spaces are unbounded and are paired with every
