@@ -1,6 +1,6 @@
 //! The 30-ragdoll drop (paper Fig. 1, bottom of Fig. 8): ten seconds without NaN, nothing
 //! through the floor, every body nearly at rest at the end, and the rod spine leaving less
-//! dislocation than the three-joint spine.
+//! dislocation than the three-joint spine, on the mean over three drop layouts.
 
 use rodlab::ragdoll::SpineKind;
 use rodlab::scene::Scene;
@@ -9,9 +9,13 @@ use rodlab::world::World;
 
 const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/ragdoll_drop.toml");
 
-/// Runs the drop with one spine; returns the final world and the mean total dislocation (cm).
-fn drop(spine: SpineKind) -> (World, f32, f32) {
-    let mut scene = Scene::load(SCENE).unwrap();
+/// Runs the drop with one spine and layout seed; returns the final world, the mean total
+/// dislocation (cm) and the lowest body centre (m).
+fn drop(spine: SpineKind, seed: u64) -> (World, f32, f32) {
+    let text = std::fs::read_to_string(SCENE).unwrap();
+    assert!(text.contains("seed = 7"));
+    let text = text.replace("seed = 7", &format!("seed = {seed}"));
+    let mut scene = Scene::parse(SCENE, &text).unwrap();
     Overrides {
         spine: Some(spine),
         ..Default::default()
@@ -39,7 +43,7 @@ fn drop(spine: SpineKind) -> (World, f32, f32) {
 fn thirty_ragdolls_land_and_settle_and_the_rod_spine_leaves_less_residual() {
     let mut means = Vec::new();
     for spine in [SpineKind::Chain3, SpineKind::Rod] {
-        let (world, mean, lowest) = drop(spine);
+        let (world, mean, lowest) = drop(spine, 7);
         // body centres stay above the floor (the thinnest limb has a 4 cm radius)
         assert!(lowest > 0.0, "{spine}: a body centre reached y = {lowest}");
         let bodies: Vec<_> = world
@@ -81,10 +85,18 @@ fn thirty_ragdolls_land_and_settle_and_the_rod_spine_leaves_less_residual() {
         );
         means.push(mean);
     }
+    // The paper's result, over three layouts: one pile is a chaotic sample (measured, seeds
+    // 7 / 1 / 2: chain3 52.9 / 58.0 / 62.7 cm, rod 52.8 / 36.8 / 45.9 cm; seed 3 alone has
+    // rod 0.4 cm above chain3), so the means over the layouts are compared.
+    for seed in [1, 2] {
+        for (k, spine) in [SpineKind::Chain3, SpineKind::Rod].into_iter().enumerate() {
+            means[k] += drop(spine, seed).1;
+        }
+    }
     assert!(
-        means[1] < means[0],
-        "mean total dislocation: rod {} cm vs chain3 {} cm",
-        means[1],
-        means[0]
+        means[1] < 0.9 * means[0],
+        "mean total dislocation over three layouts: rod {} cm vs chain3 {} cm",
+        means[1] / 3.0,
+        means[0] / 3.0
     );
 }
