@@ -79,11 +79,17 @@ pub fn blueprint(scene: &Scene) -> Blueprint {
     .with_auto_views(false)
 }
 
-/// Opens a recording of `scene` that writes to `path` (creating its folder), with its blueprint.
-pub fn save_to(path: &Path, scene: &Scene) -> anyhow::Result<RecordingStream> {
+/// Creates the folder `path` will be written in, if it has one.
+fn create_parent(path: &Path) -> anyhow::Result<()> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir)?;
     }
+    Ok(())
+}
+
+/// Opens a recording of `scene` that writes to `path` (creating its folder), with its blueprint.
+pub fn save_to(path: &Path, scene: &Scene) -> anyhow::Result<RecordingStream> {
+    create_parent(path)?;
     let rec = rerun::RecordingStreamBuilder::new(APPLICATION_ID)
         .recording_name(scene.name())
         .with_blueprint(blueprint(scene))
@@ -710,9 +716,7 @@ pub fn save_sweep(
     chart_png: &[u8],
 ) -> anyhow::Result<()> {
     use rerun::blueprint::Spatial2DView;
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir)?;
-    }
+    create_parent(path)?;
     let plots = Vertical::new([
         ContainerLike::from(
             TimeSeriesView::new("log10 mean dislocation (cm) by iterations")

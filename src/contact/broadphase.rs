@@ -131,11 +131,7 @@ impl BroadPhase {
         self.entries.sort_unstable();
 
         let proxies = &self.proxies;
-        let mut report = |a: &Proxy, b: &Proxy| {
-            if (a.dynamic || b.dynamic) && a.overlaps(b) {
-                pair(a.body.min(b.body), a.body.max(b.body));
-            }
-        };
+        let candidate = |a: &Proxy, b: &Proxy| (a.dynamic || b.dynamic) && a.overlaps(b);
         let mut start = 0;
         while start < self.entries.len() {
             let cell_key = self.entries[start].0;
@@ -148,13 +144,13 @@ impl BroadPhase {
                 let a = &proxies[first as usize];
                 for &(_, second) in &group[i + 1..] {
                     let b = &proxies[second as usize];
-                    // the overlap's lower corner decides the one cell that reports the pair
-                    if !(a.dynamic || b.dynamic) || !a.overlaps(b) {
+                    if !candidate(a, b) {
                         continue;
                     }
+                    // the overlap's lower corner decides the one cell that reports the pair
                     let corner = [0, 1, 2].map(|k| cell_of(a.min[k].max(b.min[k]), inverse_cell));
                     if key(corner) == cell_key {
-                        report(a, b);
+                        pair(a.body.min(b.body), a.body.max(b.body));
                     }
                 }
             }
@@ -168,7 +164,9 @@ impl BroadPhase {
                 if index as u32 == large || other_large.is_ok_and(|j| j <= i) {
                     continue;
                 }
-                report(a, b);
+                if candidate(a, b) {
+                    pair(a.body.min(b.body), a.body.max(b.body));
+                }
             }
         }
         for &plane in &self.half_spaces {
