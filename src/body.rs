@@ -213,39 +213,6 @@ impl Body {
         self.position + self.orientation * local
     }
 
-    /// Applies a positional impulse `impulse` (kg m) at world offset `r` from the centre of
-    /// mass to the preview pose: dp = P / m, dtheta = I^-1 (r x P).
-    #[inline]
-    pub(crate) fn apply_positional_impulse(&mut self, impulse: Vec3, r: Vec3) {
-        if self.inverse_mass == 0.0 {
-            return;
-        }
-        self.preview_position += impulse * self.inverse_mass;
-        let dtheta = self.inverse_inertia_world * r.cross(impulse);
-        self.rotate_preview(dtheta);
-    }
-
-    /// Applies a positional impulse `impulse` (kg m) through the centre of mass: dp = P / m.
-    #[inline]
-    pub(crate) fn apply_linear_impulse(&mut self, impulse: Vec3) {
-        self.preview_position += impulse * self.inverse_mass;
-    }
-
-    /// Adds a rotation to this step's correction and refreshes the preview orientation.
-    #[inline]
-    fn rotate_preview(&mut self, dtheta: Vec3) {
-        self.rotation_correction += dtheta;
-        self.preview_orientation =
-            crate::math::rotate_by_small(self.predicted_orientation, self.rotation_correction);
-    }
-
-    /// Starts a step's corrections from the predicted orientation.
-    pub(crate) fn set_predicted_orientation(&mut self, q: Quat) {
-        self.predicted_orientation = q;
-        self.preview_orientation = q;
-        self.rotation_correction = Vec3::ZERO;
-    }
-
     /// Applies a velocity impulse `impulse` (N s) at world offset `r`: dv = P / m,
     /// dw = I^-1 (r x P), with the inverse inertia at the current orientation.
     pub(crate) fn apply_velocity_impulse(&mut self, impulse: Vec3, r: Vec3) {
@@ -253,39 +220,10 @@ impl Body {
         self.angular_velocity += self.inverse_inertia_world * r.cross(impulse);
     }
 
-    /// Applies an angular impulse `l` (kg m^2 rad) to the preview orientation: dtheta = I^-1 l.
-    #[inline]
-    pub(crate) fn apply_angular_impulse(&mut self, l: Vec3) {
-        if self.inverse_mass == 0.0 {
-            return;
-        }
-        let dtheta = self.inverse_inertia_world * l;
-        self.rotate_preview(dtheta);
-    }
-
     /// Generalised inverse mass for a positional correction along unit `n` at offset `r`.
     #[inline]
     pub(crate) fn positional_inverse_mass(&self, r: Vec3, n: Vec3) -> f32 {
         let rn = r.cross(n);
         self.inverse_mass + rn.dot(self.inverse_inertia_world * rn)
-    }
-
-    /// Generalised inverse mass for a rotation about unit axis `n`.
-    #[inline]
-    pub(crate) fn angular_inverse_mass(&self, n: Vec3) -> f32 {
-        n.dot(self.inverse_inertia_world * n)
-    }
-
-    /// `g . I^-1 g` for an angular gradient `g` of any length.
-    #[inline]
-    pub(crate) fn angular_inverse_mass_unnormalised(&self, g: Vec3) -> f32 {
-        g.dot(self.inverse_inertia_world * g)
-    }
-
-    /// Inverse effective mass block of a point at offset `r`: `1/m I - [r] I^-1 [r]`.
-    #[inline]
-    pub(crate) fn point_inverse_mass_matrix(&self, r: Vec3) -> Mat3 {
-        let rx = crate::math::skew(r);
-        Mat3::from_diagonal(Vec3::splat(self.inverse_mass)) - rx * self.inverse_inertia_world * rx
     }
 }

@@ -3,52 +3,12 @@
 use crate::body::{Body, BodyId};
 use crate::constraint::Constraint;
 use crate::contact::Contacts;
-use crate::math::Vec3;
 use crate::ragdoll::Ragdoll;
+use crate::solver::Solver;
 
-/// Simulation settings (from the scene file, overridable on the command line).
-#[derive(Clone, Debug, PartialEq)]
-pub struct Settings {
-    pub gravity: Vec3,
-    /// Frame time step (s).
-    pub dt: f32,
-    /// Solver iterations per frame (paper §8: a fixed number).
-    pub iterations: u32,
-    /// A dynamic body faster than this (m/s) counts as exploded.
-    pub max_linear_speed: f32,
-    /// A dynamic body spinning faster than this (rad/s) counts as exploded.
-    pub max_angular_speed: f32,
-    /// Whether bodies collide. Off, the step does no collision work at all.
-    pub contacts: bool,
-    /// Contact points are made this far (m) before the surfaces touch.
-    pub contact_margin: f32,
-    /// Velocity damping rates (1/s): each step `v /= 1 + dt c`. Zero (the default) in the
-    /// paper's scenes; a game scene may use a little to let piles come to rest.
-    pub linear_damping: f32,
-    pub angular_damping: f32,
-}
-
-impl Default for Settings {
-    fn default() -> Self {
-        Settings {
-            gravity: Vec3::new(0.0, -9.81, 0.0),
-            dt: 1.0 / 60.0,
-            iterations: 20,
-            max_linear_speed: DEFAULT_MAX_LINEAR_SPEED,
-            max_angular_speed: DEFAULT_MAX_ANGULAR_SPEED,
-            contacts: false,
-            contact_margin: 0.02,
-            linear_damping: 0.0,
-            angular_damping: 0.0,
-        }
-    }
-}
-
-/// Default explosion bound on linear speed (m/s): well above anything a falling ragdoll or a
-/// thrown prop reaches in our scenes (a 50 m/s projectile is the fastest).
-pub const DEFAULT_MAX_LINEAR_SPEED: f32 = 250.0;
-/// Default explosion bound on angular speed (rad/s), about 80 turns per second.
-pub const DEFAULT_MAX_ANGULAR_SPEED: f32 = 500.0;
+pub use crate::solver::{
+    Settings, SolverKind, DEFAULT_MAX_ANGULAR_SPEED, DEFAULT_MAX_LINEAR_SPEED,
+};
 
 #[derive(Clone, Debug, Default)]
 pub struct World {
@@ -57,6 +17,8 @@ pub struct World {
     pub constraints: Vec<Constraint>,
     pub ragdolls: Vec<Ragdoll>,
     pub contacts: Contacts,
+    /// The solver's reused per-step storage (hot bodies, rows per kind, colours).
+    pub solver: Solver,
     /// Frames stepped so far.
     pub frame: u64,
     /// Simulated time (s).
@@ -124,7 +86,15 @@ impl World {
 
     /// Advances one frame (see [`crate::solver`] for the step order).
     pub fn step(&mut self) -> Result<(), SimulationError> {
-        crate::solver::step(self)
+        self.solver.step(
+            &self.settings,
+            &mut self.bodies,
+            &self.constraints,
+            &mut self.contacts,
+        );
+        self.frame += 1;
+        self.time += self.settings.dt as f64;
+        self.check_health()
     }
 
     pub fn kinetic_energy(&self) -> f32 {

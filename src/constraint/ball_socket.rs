@@ -18,15 +18,18 @@
 //! A spring with relaxation 1 is a hard angular target (the paper's "internal torque
 //! constraints" of §8) and its error counts as angular violation.
 //!
-//! A spring with relaxation 1 is a hard angular target (the paper's "internal torque
-//! constraints" of §8) and its error counts as angular violation.
-//!
 //! Solve order per iteration: spring, limits, point, so the dislocation is the freshest.
+//!
+//! Stages: [`BallSocket::prepare`] flattens the joint into a [`JointRow`] (body indices, no
+//! name) once per frame; [`JointRow::begin_substep`] takes the limit's starting twist;
+//! [`JointRow::solve`] projects the preview poses each iteration; [`BallSocket::violation`]
+//! measures. `ball_socket_lanes.rs` is the same solve on W joints at once.
 
 use super::limits::AngularLimit;
 use super::parts::{point_along_error, point_block, relative_rotation};
 use super::Violation;
 use crate::body::{Body, BodyId};
+use crate::solver::body::SolverBody;
 use crate::math::{rotation_vector, Quat, Vec3};
 
 /// How the point part is solved.
@@ -120,21 +123,19 @@ impl BallSocket {
         self
     }
 
-    pub fn solve(&self, a: &mut Body, b: &mut Body) {
-        if let Some(spring) = self.spring {
-            let target_b = a.preview_orientation * spring.rest;
-            let error = rotation_vector(target_b * b.preview_orientation.inverse());
-            relative_rotation(a, b, spring.relaxation * error);
-        }
-        if let Some(limit) = self.limit {
-            limit.solve(a, b, self.local_frame_a, self.local_frame_b);
-        }
-        let ra = a.preview_orientation * self.local_anchor_a;
-        let rb = b.preview_orientation * self.local_anchor_b;
-        let d = (b.preview_position + rb) - (a.preview_position + ra);
-        match self.flavour {
-            JointFlavour::Cheap => point_along_error(a, b, ra, rb, d, 1.0),
-            JointFlavour::Exact => point_block(a, b, ra, rb, d, 1.0),
+    /// The prepare stage: the joint as the solver stores it.
+    pub fn prepare(&self) -> JointRow {
+        JointRow {
+            body_a: self.body_a.0,
+            body_b: self.body_b.0,
+            anchor_a: self.local_anchor_a,
+            anchor_b: self.local_anchor_b,
+            frame_a: self.local_frame_a,
+            frame_b: self.local_frame_b,
+            limit: self.limit,
+            start_twist: 0.0,
+            spring: self.spring,
+            flavour: self.flavour,
         }
     }
 
@@ -162,6 +163,53 @@ impl BallSocket {
         Violation {
             dislocation: (pb - pa).length(),
             angular,
+        }
+    }
+}
+
+/// A ball-and-socket joint as the solver stores it (hot data: indices, no name).
+#[derive(Clone, Copy, Debug)]
+pub struct JointRow {
+    pub body_a: u32,
+    pub body_b: u32,
+    pub anchor_a: Vec3,
+    pub anchor_b: Vec3,
+    pub frame_a: Quat,
+    pub frame_b: Quat,
+    pub limit: Option<AngularLimit>,
+    /// Twist of the joint frames at the substep's start (limits unwrap against it).
+    pub start_twist: f32,
+    pub spring: Option<AngularSpring>,
+    pub flavour: JointFlavour,
+}
+
+impl JointRow {
+    /// Per-substep constants, from the bodies' poses at the substep's start.
+    pub fn begin_substep(&mut self, bodies: &[Body]) {
+        if self.limit.is_some() {
+            let (a, b) = (&bodies[self.body_a as usize], &bodies[self.body_b as usize]);
+            self.start_twist =
+                AngularLimit::start_twist(a.orientation * self.frame_a, b.orientation * self.frame_b);
+        }
+    }
+
+    /// One projection of the preview poses: spring, limits, then the point.
+    #[inline]
+    pub fn solve(&self, a: &mut SolverBody, b: &mut SolverBody) {
+        if let Some(spring) = self.spring {
+            let target_b = a.orientation * spring.rest;
+            let error = rotation_vector(target_b * b.orientation.inverse());
+            relative_rotation(a, b, spring.relaxation * error);
+        }
+        if let Some(limit) = self.limit {
+            limit.solve(a, b, self.frame_a, self.frame_b, self.start_twist);
+        }
+        let ra = a.orientation * self.anchor_a;
+        let rb = b.orientation * self.anchor_b;
+        let d = (b.position + rb) - (a.position + ra);
+        match self.flavour {
+            JointFlavour::Cheap => point_along_error(a, b, ra, rb, d, 1.0),
+            JointFlavour::Exact => point_block(a, b, ra, rb, d, 1.0),
         }
     }
 }

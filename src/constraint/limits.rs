@@ -15,7 +15,7 @@
 //! and the twist angle is the hinge angle.
 
 use super::parts::relative_rotation;
-use crate::body::Body;
+use crate::solver::body::SolverBody;
 use crate::math::{angle_between, any_perpendicular, twist_angle, wrap_angle, Quat, Vec3};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -67,10 +67,24 @@ impl AngularLimit {
         }
     }
 
-    /// Projects the preview orientations onto the limit (hard, relaxation 1).
-    pub fn solve(&self, a: &mut Body, b: &mut Body, local_frame_a: Quat, local_frame_b: Quat) {
-        let ax = a.preview_orientation * local_frame_a * Vec3::X;
-        let bx = b.preview_orientation * local_frame_b * Vec3::X;
+    /// Twist at the start of the substep (prepare stage), which the solve unwraps against.
+    pub fn start_twist(frame_a: Quat, frame_b: Quat) -> f32 {
+        twist_angle(frame_a.inverse() * frame_b, Vec3::X)
+    }
+
+    /// Projects the preview orientations onto the limit (hard, relaxation 1). `start_twist` is
+    /// [`AngularLimit::start_twist`] at the substep's start poses.
+    #[inline]
+    pub fn solve(
+        &self,
+        a: &mut SolverBody,
+        b: &mut SolverBody,
+        local_frame_a: Quat,
+        local_frame_b: Quat,
+        start_twist: f32,
+    ) {
+        let ax = a.orientation * local_frame_a * Vec3::X;
+        let bx = b.orientation * local_frame_b * Vec3::X;
         let swing = angle_between(ax, bx);
         if swing > self.swing_max {
             let axis = ax
@@ -79,14 +93,10 @@ impl AngularLimit {
                 .unwrap_or_else(|| any_perpendicular(ax));
             relative_rotation(a, b, -(swing - self.swing_max) * axis);
         }
-        let frame_a = a.preview_orientation * local_frame_a;
-        let frame_b = b.preview_orientation * local_frame_b;
-        let start = twist_angle(
-            (a.orientation * local_frame_a).inverse() * (b.orientation * local_frame_b),
-            Vec3::X,
-        );
+        let frame_a = a.orientation * local_frame_a;
+        let frame_b = b.orientation * local_frame_b;
         let twist = twist_angle(frame_a.inverse() * frame_b, Vec3::X);
-        let excess = self.twist_excess(start + wrap_angle(twist - start));
+        let excess = self.twist_excess(start_twist + wrap_angle(twist - start_twist));
         if excess != 0.0 {
             relative_rotation(a, b, -excess * (frame_b * Vec3::X));
         }

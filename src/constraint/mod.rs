@@ -1,17 +1,22 @@
 //! Constraint kinds. Each kind lives in its own file, opens with its maths, and offers the same
-//! small set of functions: `solve(a, b)` (one projection of the preview poses) and
-//! `violation(a, b)` (the residual measures). [`Constraint`] dispatches with one `match`.
+//! small set of stages: `prepare` (the user's definition, with its name, flattened into a row
+//! the solver stores per kind), `solve(a, b)` on the row (one projection of two
+//! [`SolverBody`]s' preview poses) and `violation(a, b)` (the residual measures). The `*_lanes`
+//! files solve W rows of a kind at once (paper §7).
 
 pub mod ball_socket;
+pub mod ball_socket_lanes;
 pub mod limits;
 pub mod parts;
 pub mod rod;
+pub mod rod_lanes;
 
-pub use ball_socket::{AngularSpring, BallSocket, JointFlavour};
+pub use ball_socket::{AngularSpring, BallSocket, JointFlavour, JointRow};
 pub use limits::AngularLimit;
-pub use rod::{LengthCorrection, Rod, RodState, TwistMode};
+pub use rod::{LengthCorrection, Rod, RodRow, RodState, TwistMode};
 
 use crate::body::{Body, BodyId};
+use crate::solver::body::SolverBody;
 
 /// Residual of one constraint after a frame's iterations (paper Fig. 8).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -50,15 +55,24 @@ impl Constraint {
         }
     }
 
-    /// One projection of this constraint on the preview poses.
-    #[inline]
+    /// One projection of this constraint on the bodies' preview poses, outside a step (tests
+    /// and tools; the solver works on rows and [`SolverBody`]s). Limits unwrap their twist
+    /// against the bodies' current orientations.
     pub fn solve(&self, bodies: &mut [Body]) {
         let (ia, ib) = self.bodies();
         let (a, b) = parts::pair_mut(bodies, ia.index(), ib.index());
+        let (mut sa, mut sb) = (SolverBody::from_body(a), SolverBody::from_body(b));
         match self {
-            Constraint::BallSocket(joint) => joint.solve(a, b),
-            Constraint::Rod(rod) => rod.solve(a, b),
+            Constraint::BallSocket(joint) => {
+                let mut row = joint.prepare();
+                let start = (a.orientation * row.frame_a, b.orientation * row.frame_b);
+                row.start_twist = AngularLimit::start_twist(start.0, start.1);
+                row.solve(&mut sa, &mut sb);
+            }
+            Constraint::Rod(rod) => rod.prepare().solve(&mut sa, &mut sb),
         }
+        sa.write_preview(a);
+        sb.write_preview(b);
     }
 
     pub fn violation(&self, bodies: &[Body]) -> Violation {

@@ -6,8 +6,9 @@
 //! `dtheta = I^-1 L`. Equal and opposite impulses on the pair conserve its linear and angular
 //! momentum, which every part below respects.
 
-use crate::body::Body;
 use crate::math::{Mat3, Vec3};
+use crate::solver::body::SolverBody as Body;
+pub use crate::solver::body::pair_mut;
 
 /// Scalar projection: removes `relaxation` times the distance `|d|` along `n = d / |d|`, where
 /// `d = anchor_b - anchor_a`. One row of the point constraint; the cross-coupling of the three
@@ -61,17 +62,4 @@ pub fn relative_rotation(a: &mut Body, b: &mut Body, rotation_b: Vec3) {
     let l = n * (angle / w);
     a.apply_angular_impulse(-l);
     b.apply_angular_impulse(l);
-}
-
-/// Two distinct bodies of a slice, mutably.
-#[inline]
-pub fn pair_mut(bodies: &mut [Body], a: usize, b: usize) -> (&mut Body, &mut Body) {
-    assert_ne!(a, b, "a constraint needs two distinct bodies");
-    if a < b {
-        let (lo, hi) = bodies.split_at_mut(b);
-        (&mut lo[a], &mut hi[0])
-    } else {
-        let (lo, hi) = bodies.split_at_mut(a);
-        (&mut hi[0], &mut lo[b])
-    }
 }

@@ -34,6 +34,7 @@
 use super::parts::relative_rotation;
 use super::Violation;
 use crate::body::{Body, BodyId};
+use crate::solver::body::SolverBody;
 use crate::math::{angle_between, any_perpendicular, twist_angle, Quat, Vec3};
 
 /// How the length constraint (eq. 9) is corrected.
@@ -140,10 +141,21 @@ impl Rod {
     }
 
     pub fn twist(&self, frame_a: Quat, frame_b: Quat) -> f32 {
-        let exact = twist_exact(frame_a, frame_b);
-        match self.twist_mode {
-            TwistMode::Exact => exact,
-            TwistMode::Paper => twist_paper(frame_a, frame_b).copysign(exact),
+        measure_twist(self.twist_mode, frame_a, frame_b)
+    }
+
+    /// The prepare stage: the rod as the solver stores it.
+    pub fn prepare(&self) -> RodRow {
+        RodRow {
+            body_a: self.body_a.0,
+            body_b: self.body_b.0,
+            frame_a: self.local_frame_a,
+            frame_b: self.local_frame_b,
+            rest_length: self.rest_length,
+            alpha_bend: self.alpha_bend,
+            alpha_twist: self.alpha_twist,
+            twist_mode: self.twist_mode,
+            length_correction: self.length_correction,
         }
     }
 
@@ -156,73 +168,6 @@ impl Rod {
             tau: self.twist(fa, fb),
             length_error: length_error(pa, ta, pb, tb, self.rest_length),
             curve_error: curve_error(pa, ta, pb, tb),
-        }
-    }
-
-    /// One projection of bend, twist, curve and length, sharing the geometry (§7).
-    pub fn solve(&self, a: &mut Body, b: &mut Body) {
-        // Soft bend (eq. 11): remove alpha_b of psi about t_a x t_b.
-        let (fa, fb) = self.frames(a, b);
-        let (ta, tb) = (fa * Vec3::X, fb * Vec3::X);
-        if self.alpha_bend > 0.0 {
-            let psi = angle_between(ta, tb);
-            if psi > 1e-7 {
-                let axis = ta
-                    .cross(tb)
-                    .try_normalize()
-                    .unwrap_or_else(|| any_perpendicular(ta));
-                relative_rotation(a, b, -self.alpha_bend * psi * axis);
-            }
-        }
-        // Soft twist (eq. 12-13): remove alpha_t of tau about t_b.
-        if self.alpha_twist > 0.0 {
-            let (fa, fb) = self.frames(a, b);
-            let tau = self.twist(fa, fb);
-            relative_rotation(a, b, -self.alpha_twist * tau * (fb * Vec3::X));
-        }
-        // Hard curve (eq. 6), full gradient.
-        let (fa, fb) = self.frames(a, b);
-        let (ta, tb) = (fa * Vec3::X, fb * Vec3::X);
-        let (pa, pb) = (a.preview_position, b.preview_position);
-        let (c, g) = curve_projection(pa, ta, pb, tb);
-        if c > 1e-7 {
-            let w = (a.inverse_mass + b.inverse_mass) * g.p_b.length_squared()
-                + a.angular_inverse_mass_unnormalised(g.theta_a)
-                + b.angular_inverse_mass_unnormalised(g.theta_b);
-            if w > 0.0 {
-                let lambda = -c / w;
-                a.apply_linear_impulse(lambda * g.p_a);
-                b.apply_linear_impulse(lambda * g.p_b);
-                a.apply_angular_impulse(lambda * g.theta_a);
-                b.apply_angular_impulse(lambda * g.theta_b);
-            }
-        }
-        // Hard length (eq. 9), linear motion along o^ at fixed psi.
-        let (fa, fb) = self.frames(a, b);
-        let (ta, tb) = (fa * Vec3::X, fb * Vec3::X);
-        let (pa, pb) = (a.preview_position, b.preview_position);
-        let c = length_error(pa, ta, pb, tb, self.rest_length);
-        let axis = offset_axis(pa, pb, ta);
-        // angular part of the gradient: zero for the paper's correction
-        let g_theta_b = match self.length_correction {
-            LengthCorrection::Offset => Vec3::ZERO,
-            LengthCorrection::Gradient => {
-                let bend_axis = ta.cross(tb).try_normalize().unwrap_or(Vec3::ZERO);
-                -self.rest_length * chord_ratio_derivative(angle_between(ta, tb)) * bend_axis
-            }
-        };
-        let w = a.inverse_mass
-            + b.inverse_mass
-            + a.angular_inverse_mass_unnormalised(g_theta_b)
-            + b.angular_inverse_mass_unnormalised(g_theta_b);
-        if c.abs() > 1e-9 && w > 0.0 {
-            let lambda = c / w;
-            a.apply_linear_impulse(lambda * axis);
-            b.apply_linear_impulse(-lambda * axis);
-            if g_theta_b != Vec3::ZERO {
-                a.apply_angular_impulse(lambda * g_theta_b);
-                b.apply_angular_impulse(-lambda * g_theta_b);
-            }
         }
     }
 
@@ -252,6 +197,98 @@ impl Rod {
         let natural = Quat::from_axis_angle(bend_axis, psi * s) * fa;
         let frame = natural * Quat::from_rotation_x(self.twist(fa, fb) * s);
         (point, frame.normalize())
+    }
+}
+
+/// A rod as the solver stores it (hot data: indices, no name).
+#[derive(Clone, Copy, Debug)]
+pub struct RodRow {
+    pub body_a: u32,
+    pub body_b: u32,
+    pub frame_a: Quat,
+    pub frame_b: Quat,
+    pub rest_length: f32,
+    pub alpha_bend: f32,
+    pub alpha_twist: f32,
+    pub twist_mode: TwistMode,
+    pub length_correction: LengthCorrection,
+}
+
+impl RodRow {
+    /// One projection of bend, twist, curve and length, sharing the geometry (§7).
+    pub fn solve(&self, a: &mut SolverBody, b: &mut SolverBody) {
+        // Soft bend (eq. 11): remove alpha_b of psi about t_a x t_b.
+        let (fa, fb) = (a.orientation * self.frame_a, b.orientation * self.frame_b);
+        let (ta, tb) = (fa * Vec3::X, fb * Vec3::X);
+        if self.alpha_bend > 0.0 {
+            let psi = angle_between(ta, tb);
+            if psi > 1e-7 {
+                let axis = ta
+                    .cross(tb)
+                    .try_normalize()
+                    .unwrap_or_else(|| any_perpendicular(ta));
+                relative_rotation(a, b, -self.alpha_bend * psi * axis);
+            }
+        }
+        // Soft twist (eq. 12-13): remove alpha_t of tau about t_b.
+        if self.alpha_twist > 0.0 {
+            let (fa, fb) = (a.orientation * self.frame_a, b.orientation * self.frame_b);
+            let tau = measure_twist(self.twist_mode, fa, fb);
+            relative_rotation(a, b, -self.alpha_twist * tau * (fb * Vec3::X));
+        }
+        // Hard curve (eq. 6), full gradient.
+        let (fa, fb) = (a.orientation * self.frame_a, b.orientation * self.frame_b);
+        let (ta, tb) = (fa * Vec3::X, fb * Vec3::X);
+        let (pa, pb) = (a.position, b.position);
+        let (c, g) = curve_projection(pa, ta, pb, tb);
+        if c > 1e-7 {
+            let w = (a.inverse_mass + b.inverse_mass) * g.p_b.length_squared()
+                + a.angular_inverse_mass(g.theta_a)
+                + b.angular_inverse_mass(g.theta_b);
+            if w > 0.0 {
+                let lambda = -c / w;
+                a.apply_linear_impulse(lambda * g.p_a);
+                b.apply_linear_impulse(lambda * g.p_b);
+                a.apply_angular_impulse(lambda * g.theta_a);
+                b.apply_angular_impulse(lambda * g.theta_b);
+            }
+        }
+        // Hard length (eq. 9), linear motion along o^ at fixed psi.
+        let (fa, fb) = (a.orientation * self.frame_a, b.orientation * self.frame_b);
+        let (ta, tb) = (fa * Vec3::X, fb * Vec3::X);
+        let (pa, pb) = (a.position, b.position);
+        let c = length_error(pa, ta, pb, tb, self.rest_length);
+        let axis = offset_axis(pa, pb, ta);
+        // angular part of the gradient: zero for the paper's correction
+        let g_theta_b = match self.length_correction {
+            LengthCorrection::Offset => Vec3::ZERO,
+            LengthCorrection::Gradient => {
+                let bend_axis = ta.cross(tb).try_normalize().unwrap_or(Vec3::ZERO);
+                -self.rest_length * chord_ratio_derivative(angle_between(ta, tb)) * bend_axis
+            }
+        };
+        let w = a.inverse_mass
+            + b.inverse_mass
+            + a.angular_inverse_mass(g_theta_b)
+            + b.angular_inverse_mass(g_theta_b);
+        if c.abs() > 1e-9 && w > 0.0 {
+            let lambda = c / w;
+            a.apply_linear_impulse(lambda * axis);
+            b.apply_linear_impulse(-lambda * axis);
+            if g_theta_b != Vec3::ZERO {
+                a.apply_angular_impulse(lambda * g_theta_b);
+                b.apply_angular_impulse(-lambda * g_theta_b);
+            }
+        }
+    }
+}
+
+/// tau by `mode` (see [`TwistMode`]).
+pub fn measure_twist(mode: TwistMode, frame_a: Quat, frame_b: Quat) -> f32 {
+    let exact = twist_exact(frame_a, frame_b);
+    match mode {
+        TwistMode::Exact => exact,
+        TwistMode::Paper => twist_paper(frame_a, frame_b).copysign(exact),
     }
 }
 

@@ -24,10 +24,12 @@
 
 pub mod box_box;
 pub mod broadphase;
+pub mod lanes;
 pub mod narrowphase;
 
 use crate::body::{Body, BodyId};
-use crate::constraint::{parts::pair_mut, Constraint};
+use crate::constraint::Constraint;
+use crate::solver::body::{pair_mut, SolverBody};
 use crate::math::Vec3;
 use broadphase::BroadPhase;
 use narrowphase::Feature;
@@ -66,11 +68,11 @@ impl ContactPoint {
         (b.preview_point(self.local_b) - a.preview_point(self.local_a)).dot(self.normal)
     }
 
-    pub fn solve(&mut self, a: &mut Body, b: &mut Body) {
+    pub fn solve(&mut self, a: &mut SolverBody, b: &mut SolverBody) {
         let n = self.normal;
-        let ra = a.preview_orientation * self.local_a;
-        let rb = b.preview_orientation * self.local_b;
-        let separation = ((b.preview_position + rb) - (a.preview_position + ra)).dot(n);
+        let ra = a.orientation * self.local_a;
+        let rb = b.orientation * self.local_b;
+        let separation = ((b.position + rb) - (a.position + ra)).dot(n);
         // Projected Gauss-Seidel on the step's accumulated impulse: push while penetrating, and
         // give back what earlier iterations pushed too far, but never pull (total >= 0).
         let w = a.positional_inverse_mass(ra, n) + b.positional_inverse_mass(rb, n);
@@ -85,9 +87,9 @@ impl ContactPoint {
             return;
         }
         // friction: tangential slip of the anchors
-        let ra = a.preview_orientation * self.anchor_a;
-        let rb = b.preview_orientation * self.anchor_b;
-        let slip = (b.preview_position + rb) - (a.preview_position + ra);
+        let ra = a.orientation * self.anchor_a;
+        let rb = b.orientation * self.anchor_b;
+        let slip = (b.position + rb) - (a.position + ra);
         let tangential = slip - slip.dot(n) * n;
         let length = tangential.length();
         if length < 1e-9 {
@@ -138,8 +140,9 @@ impl Contacts {
             self.build_exclusions(bodies.len(), constraints);
         }
         std::mem::swap(&mut self.points, &mut self.previous);
-        self.previous
-            .sort_unstable_by_key(|p| (p.body_a.0, p.body_b.0));
+        // stable: the solver reorders points by colour but keeps a pair's points in the order
+        // they were found, which decides which one hands over its anchors
+        self.previous.sort_by_key(|p| (p.body_a.0, p.body_b.0));
         self.points.clear();
         self.pairs.clear();
         let pairs = &mut self.pairs;
@@ -235,8 +238,18 @@ impl Contacts {
         self.excluded_for = constraints.len();
     }
 
+    /// Starts a substep: the accumulated impulses count one substep's pushes (the projection's
+    /// `total >= 0` clamp and the friction cone are per substep, as the preview restarts from
+    /// the current pose); anchors and the sticking flag last the frame.
+    pub fn begin_substep(&mut self) {
+        for point in &mut self.points {
+            point.normal_impulse = 0.0;
+            point.friction_impulse = 0.0;
+        }
+    }
+
     /// One iteration over all contact points.
-    pub fn solve(&mut self, bodies: &mut [Body]) {
+    pub fn solve(&mut self, bodies: &mut [SolverBody]) {
         for point in &mut self.points {
             let (a, b) = pair_mut(bodies, point.body_a.index(), point.body_b.index());
             point.solve(a, b);

@@ -635,6 +635,8 @@ impl Scene {
             gravity: Vec3::from(d.gravity),
             dt: d.dt,
             iterations: d.iterations,
+            substeps: 1,
+            solver: Default::default(),
             max_linear_speed: d.max_speed,
             max_angular_speed: d.max_angular_speed,
             contacts: d.contacts,

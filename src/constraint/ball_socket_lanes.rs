@@ -1,0 +1,12 @@
+//! PLACEHOLDER: JointRow rows W at a time. Solves lane by lane with the scalar kernel until the
+//! branch-free SIMD kernel lands.
+
+use crate::solver::body::SharedBodies;
+
+pub fn solve_batch(rows: &mut [super::JointRow], bodies: SharedBodies) {
+    for row in rows {
+        let (a, b) = crate::solver::RowBodies::bodies(row);
+        // SAFETY: the batch's rows share no movable body.
+        unsafe { bodies.with_pair(a, b, |a, b| row.solve(a, b)) };
+    }
+}

@@ -1,0 +1,247 @@
+//! The solver's hot body: only what the iteration loop reads and writes, 96 bytes, contiguous.
+//! Built from [`Body`] when a substep predicts its preview pose and written back when the
+//! substep derives velocities (Box2D v3 `b2BodyState`, Rapier's solver bodies). Names, shapes,
+//! velocities and materials stay in the cold [`Body`].
+
+use crate::body::Body;
+use crate::math::{rotate_by_small, Mat3, Quat, Vec3};
+
+/// A symmetric 3x3 matrix: the world inverse inertia `R I^-1 R^T` in 6 floats.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SymMat3 {
+    pub xx: f32,
+    pub yy: f32,
+    pub zz: f32,
+    pub xy: f32,
+    pub xz: f32,
+    pub yz: f32,
+}
+
+impl SymMat3 {
+    /// `R diag(d) R^T`.
+    pub fn rotated_diagonal(rotation: Quat, d: Vec3) -> Self {
+        let r = Mat3::from_quat(rotation);
+        let (c0, c1, c2) = (r.x_axis, r.y_axis, r.z_axis);
+        // entry (i, j) = sum_k r_ik d_k r_jk, with r_ik = column k's component i
+        let e = |i: usize, j: usize| {
+            c0[i] * d.x * c0[j] + c1[i] * d.y * c1[j] + c2[i] * d.z * c2[j]
+        };
+        SymMat3 {
+            xx: e(0, 0),
+            yy: e(1, 1),
+            zz: e(2, 2),
+            xy: e(0, 1),
+            xz: e(0, 2),
+            yz: e(1, 2),
+        }
+    }
+
+    #[inline(always)]
+    pub fn mul_vec(&self, v: Vec3) -> Vec3 {
+        Vec3::new(
+            self.xx * v.x + self.xy * v.y + self.xz * v.z,
+            self.xy * v.x + self.yy * v.y + self.yz * v.z,
+            self.xz * v.x + self.yz * v.y + self.zz * v.z,
+        )
+    }
+
+    pub fn to_mat3(self) -> Mat3 {
+        Mat3::from_cols(
+            Vec3::new(self.xx, self.xy, self.xz),
+            Vec3::new(self.xy, self.yy, self.yz),
+            Vec3::new(self.xz, self.yz, self.zz),
+        )
+    }
+}
+
+/// One body as the iteration loop sees it: the preview pose x* of the current substep.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SolverBody {
+    /// Preview orientation q* = exp(rotation_correction) predicted (to first order).
+    pub orientation: Quat,
+    /// Orientation predicted at the substep's start, before any correction.
+    pub predicted: Quat,
+    /// Preview position p*.
+    pub position: Vec3,
+    /// Zero for fixed and kinematic bodies: no constraint moves them.
+    pub inverse_mass: f32,
+    /// Sum of the rotation vectors constraints applied this substep. Summing makes the
+    /// corrections commute; applying them one after another would leave second-order turns
+    /// (two tilts make a twist) that build up into spin.
+    pub rotation_correction: Vec3,
+    /// World inverse inertia `R I^-1 R^T` at the predicted orientation (a full matrix: the
+    /// struct has room for it within 96 bytes, and it keeps the scalar path's rounding the
+    /// same as the body's own).
+    pub inverse_inertia: Mat3,
+}
+
+impl SolverBody {
+    /// The body at its preview pose, as [`Body`] holds it.
+    pub fn from_body(body: &Body) -> Self {
+        let mut s = SolverBody {
+            orientation: body.preview_orientation,
+            predicted: body.predicted_orientation,
+            position: body.preview_position,
+            inverse_mass: body.inverse_mass,
+            rotation_correction: body.rotation_correction,
+            inverse_inertia: body.inverse_inertia_world(),
+        };
+        s.inverse_inertia = body.inverse_inertia_world();
+        s
+    }
+
+    /// Writes the preview pose back to `body`.
+    pub fn write_preview(&self, body: &mut Body) {
+        body.preview_position = self.position;
+        body.preview_orientation = self.orientation;
+        body.predicted_orientation = self.predicted;
+        body.rotation_correction = self.rotation_correction;
+    }
+
+    /// World position of a body-space point at the preview pose.
+    #[inline(always)]
+    pub fn point(&self, local: Vec3) -> Vec3 {
+        self.position + self.orientation * local
+    }
+
+    #[inline(always)]
+    fn rotate_preview(&mut self, dtheta: Vec3) {
+        self.rotation_correction += dtheta;
+        self.orientation = rotate_by_small(self.predicted, self.rotation_correction);
+    }
+
+    /// Applies a positional impulse `impulse` (kg m) at world offset `r` from the centre of
+    /// mass to the preview pose: dp = P / m, dtheta = I^-1 (r x P).
+    #[inline(always)]
+    pub fn apply_positional_impulse(&mut self, impulse: Vec3, r: Vec3) {
+        if self.inverse_mass == 0.0 {
+            return;
+        }
+        self.position += impulse * self.inverse_mass;
+        let dtheta = self.inverse_inertia * (r.cross(impulse));
+        self.rotate_preview(dtheta);
+    }
+
+    /// Applies a positional impulse through the centre of mass: dp = P / m.
+    #[inline(always)]
+    pub fn apply_linear_impulse(&mut self, impulse: Vec3) {
+        self.position += impulse * self.inverse_mass;
+    }
+
+    /// Applies an angular impulse `l` (kg m^2 rad) to the preview orientation: dtheta = I^-1 l.
+    #[inline(always)]
+    pub fn apply_angular_impulse(&mut self, l: Vec3) {
+        if self.inverse_mass == 0.0 {
+            return;
+        }
+        let dtheta = self.inverse_inertia * (l);
+        self.rotate_preview(dtheta);
+    }
+
+    /// Generalised inverse mass for a positional correction along unit `n` at offset `r`.
+    #[inline(always)]
+    pub fn positional_inverse_mass(&self, r: Vec3, n: Vec3) -> f32 {
+        let rn = r.cross(n);
+        self.inverse_mass + rn.dot(self.inverse_inertia * (rn))
+    }
+
+    /// `g . I^-1 g` for an angular direction `g` of any length.
+    #[inline(always)]
+    pub fn angular_inverse_mass(&self, g: Vec3) -> f32 {
+        g.dot(self.inverse_inertia * (g))
+    }
+
+    /// Inverse effective mass block of a point at offset `r`: `1/m E - [r] I^-1 [r]`.
+    #[inline(always)]
+    pub fn point_inverse_mass_matrix(&self, r: Vec3) -> Mat3 {
+        let rx = crate::math::skew(r);
+        Mat3::from_diagonal(Vec3::splat(self.inverse_mass)) - rx * self.inverse_inertia * rx
+    }
+}
+
+/// Two distinct entries of a slice, mutably.
+#[inline(always)]
+pub fn pair_mut<T>(items: &mut [T], a: usize, b: usize) -> (&mut T, &mut T) {
+    assert_ne!(a, b, "a constraint needs two distinct bodies");
+    if a < b {
+        let (lo, hi) = items.split_at_mut(b);
+        (&mut lo[a], &mut hi[0])
+    } else {
+        let (lo, hi) = items.split_at_mut(a);
+        (&mut hi[0], &mut lo[b])
+    }
+}
+
+/// The solver bodies shared by the workers of one colour. Rows of a colour share no movable
+/// body, so each movable body is written by one row at a time; immovable bodies (zero inverse
+/// mass) are only read, and a row gets a private copy of them.
+#[derive(Clone, Copy)]
+pub struct SharedBodies {
+    ptr: *mut SolverBody,
+    len: usize,
+}
+
+// SAFETY: access goes through `with_pair`/`read`/`write`, whose callers guarantee that no two
+// concurrent rows touch the same movable body (graph colouring).
+unsafe impl Send for SharedBodies {}
+unsafe impl Sync for SharedBodies {}
+
+impl SharedBodies {
+    pub fn new(bodies: &mut [SolverBody]) -> Self {
+        SharedBodies {
+            ptr: bodies.as_mut_ptr(),
+            len: bodies.len(),
+        }
+    }
+
+    /// Runs `f` on bodies `a` and `b`; an immovable one is passed as a copy.
+    ///
+    /// # Safety
+    /// No other thread may access the movable ones among `a` and `b` meanwhile.
+    #[inline(always)]
+    pub unsafe fn with_pair<R>(
+        &self,
+        a: u32,
+        b: u32,
+        f: impl FnOnce(&mut SolverBody, &mut SolverBody) -> R,
+    ) -> R {
+        let (a, b) = (a as usize, b as usize);
+        assert!(a < self.len && b < self.len && a != b);
+        let (pa, pb) = (self.ptr.add(a), self.ptr.add(b));
+        let (mut copy_a, mut copy_b);
+        let ra = if (*pa).inverse_mass != 0.0 {
+            &mut *pa
+        } else {
+            copy_a = *pa;
+            &mut copy_a
+        };
+        let rb = if (*pb).inverse_mass != 0.0 {
+            &mut *pb
+        } else {
+            copy_b = *pb;
+            &mut copy_b
+        };
+        f(ra, rb)
+    }
+
+    /// A copy of body `i`.
+    ///
+    /// # Safety
+    /// No other thread may be writing body `i`.
+    #[inline(always)]
+    pub unsafe fn read(&self, i: u32) -> SolverBody {
+        assert!((i as usize) < self.len);
+        *self.ptr.add(i as usize)
+    }
+
+    /// Body `i`, to write.
+    ///
+    /// # Safety
+    /// No other thread may access body `i` meanwhile, and it must be movable.
+    #[inline(always)]
+    #[allow(clippy::mut_from_ref)]
+    pub unsafe fn get_mut(&self, i: u32) -> &mut SolverBody {
+        assert!((i as usize) < self.len);
+        &mut *self.ptr.add(i as usize)
+    }
+}

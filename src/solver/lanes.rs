@@ -1,0 +1,513 @@
+//! W-wide lanes for the batched solve (paper §7: "branch-free SIMD code, solving four
+//! constraints at once"; Box2D v3's `b2FloatW`, Rapier's SIMD joint groups).
+//!
+//! [`Lane`] is a float vector of `W` lanes (`wide::f32x4` or `wide::f32x8`); [`V3`], [`Q`] and
+//! [`SymM3`] are glam's `Vec3`, `Quat` and a symmetric 3x3 matrix with one lane per
+//! constraint. Branches become masks: compute both sides, [`Lane::select`] per lane.
+//! [`BodyLanes`] holds W solver bodies gathered from [`SolverBody`]s by index and is scattered
+//! back after the batch; the body methods mirror the scalar ones on [`SolverBody`].
+
+use super::body::{SharedBodies, SymMat3};
+use crate::math::{Quat, Vec3};
+use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Sub};
+
+/// A float vector of `W` lanes. Comparisons return masks (all bits set per true lane).
+pub trait Lane:
+    Copy
+    + Send
+    + Sync
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+    + BitAnd<Output = Self>
+    + BitOr<Output = Self>
+{
+    const W: usize;
+    fn splat(x: f32) -> Self;
+    /// Lane `i` from `f(i)`.
+    fn from_fn(f: impl FnMut(usize) -> f32) -> Self;
+    fn lane(self, i: usize) -> f32;
+    fn sqrt(self) -> Self;
+    fn abs(self) -> Self;
+    fn max(self, o: Self) -> Self;
+    fn min(self, o: Self) -> Self;
+    fn lt(self, o: Self) -> Self;
+    fn gt(self, o: Self) -> Self;
+    /// Per lane: `t` where the mask `self` is set, else `f`.
+    fn select(self, t: Self, f: Self) -> Self;
+    fn atan2(self, x: Self) -> Self;
+    fn sin_cos(self) -> (Self, Self);
+    fn any(self) -> bool;
+
+    #[inline(always)]
+    fn zero() -> Self {
+        Self::splat(0.0)
+    }
+    /// `1 / self` where `self > 0`, else 0 (a zero effective mass gives no correction).
+    #[inline(always)]
+    fn recip_or_zero(self) -> Self {
+        let positive = self.gt(Self::zero());
+        positive.select(Self::splat(1.0) / self.max(Self::splat(f32::MIN_POSITIVE)), Self::zero())
+    }
+}
+
+macro_rules! impl_lane {
+    ($t:ty, $w:expr) => {
+        impl Lane for $t {
+            const W: usize = $w;
+            #[inline(always)]
+            fn splat(x: f32) -> Self {
+                <$t>::splat(x)
+            }
+            #[inline(always)]
+            fn from_fn(mut f: impl FnMut(usize) -> f32) -> Self {
+                let mut a = [0.0f32; $w];
+                for (i, x) in a.iter_mut().enumerate() {
+                    *x = f(i);
+                }
+                <$t>::new(a)
+            }
+            #[inline(always)]
+            fn lane(self, i: usize) -> f32 {
+                self.to_array()[i]
+            }
+            #[inline(always)]
+            fn sqrt(self) -> Self {
+                <$t>::sqrt(self)
+            }
+            #[inline(always)]
+            fn abs(self) -> Self {
+                <$t>::abs(self)
+            }
+            #[inline(always)]
+            fn max(self, o: Self) -> Self {
+                <$t>::max(self, o)
+            }
+            #[inline(always)]
+            fn min(self, o: Self) -> Self {
+                <$t>::min(self, o)
+            }
+            #[inline(always)]
+            fn lt(self, o: Self) -> Self {
+                self.simd_lt(o)
+            }
+            #[inline(always)]
+            fn gt(self, o: Self) -> Self {
+                self.simd_gt(o)
+            }
+            #[inline(always)]
+            fn select(self, t: Self, f: Self) -> Self {
+                <$t>::select(self, t, f)
+            }
+            #[inline(always)]
+            fn atan2(self, x: Self) -> Self {
+                <$t>::atan2(self, x)
+            }
+            #[inline(always)]
+            fn sin_cos(self) -> (Self, Self) {
+                <$t>::sin_cos(self)
+            }
+            #[inline(always)]
+            fn any(self) -> bool {
+                <$t>::any(self)
+            }
+        }
+    };
+}
+
+impl_lane!(wide::f32x4, 4);
+impl_lane!(wide::f32x8, 8);
+
+/// `Vec3` with one lane per constraint.
+#[derive(Clone, Copy, Debug)]
+pub struct V3<L> {
+    pub x: L,
+    pub y: L,
+    pub z: L,
+}
+
+impl<L: Lane> V3<L> {
+    #[inline(always)]
+    pub fn zero() -> Self {
+        Self::splat(Vec3::ZERO)
+    }
+    #[inline(always)]
+    pub fn splat(v: Vec3) -> Self {
+        V3 {
+            x: L::splat(v.x),
+            y: L::splat(v.y),
+            z: L::splat(v.z),
+        }
+    }
+    #[inline(always)]
+    pub fn from_fn(mut f: impl FnMut(usize) -> Vec3) -> Self {
+        let mut v = [Vec3::ZERO; 8];
+        for (i, x) in v.iter_mut().take(L::W).enumerate() {
+            *x = f(i);
+        }
+        V3 {
+            x: L::from_fn(|i| v[i].x),
+            y: L::from_fn(|i| v[i].y),
+            z: L::from_fn(|i| v[i].z),
+        }
+    }
+    #[inline(always)]
+    pub fn lane(&self, i: usize) -> Vec3 {
+        Vec3::new(self.x.lane(i), self.y.lane(i), self.z.lane(i))
+    }
+    #[inline(always)]
+    pub fn dot(self, o: Self) -> L {
+        self.x * o.x + self.y * o.y + self.z * o.z
+    }
+    #[inline(always)]
+    pub fn cross(self, o: Self) -> Self {
+        V3 {
+            x: self.y * o.z - self.z * o.y,
+            y: self.z * o.x - self.x * o.z,
+            z: self.x * o.y - self.y * o.x,
+        }
+    }
+    #[inline(always)]
+    pub fn length_squared(self) -> L {
+        self.dot(self)
+    }
+    #[inline(always)]
+    pub fn length(self) -> L {
+        self.dot(self).sqrt()
+    }
+    #[inline(always)]
+    pub fn scale(self, s: L) -> Self {
+        V3 {
+            x: self.x * s,
+            y: self.y * s,
+            z: self.z * s,
+        }
+    }
+    /// Per lane: `self / |self|`, or `fallback` where `|self|` is below `eps`; with the length.
+    #[inline(always)]
+    pub fn normalize_or(self, fallback: Self, eps: f32) -> (Self, L) {
+        let length = self.length();
+        let ok = length.gt(L::splat(eps));
+        let inv = ok.select(L::splat(1.0) / length.max(L::splat(eps)), L::zero());
+        (V3::select(ok, self.scale(inv), fallback), length)
+    }
+    #[inline(always)]
+    pub fn select(mask: L, t: Self, f: Self) -> Self {
+        V3 {
+            x: mask.select(t.x, f.x),
+            y: mask.select(t.y, f.y),
+            z: mask.select(t.z, f.z),
+        }
+    }
+    /// A unit vector perpendicular to each lane's unit `self` (glam's `any_orthonormal_vector`,
+    /// branch-free: Duff et al. 2017).
+    #[inline(always)]
+    pub fn any_orthonormal(self) -> Self {
+        let sign = self.z.lt(L::zero()).select(L::splat(-1.0), L::splat(1.0));
+        let a = -L::splat(1.0) / (sign + self.z);
+        let b = self.x * self.y * a;
+        V3 {
+            x: b,
+            y: sign + self.y * self.y * a,
+            z: -self.y,
+        }
+    }
+}
+
+impl<L: Lane> Add for V3<L> {
+    type Output = Self;
+    #[inline(always)]
+    fn add(self, o: Self) -> Self {
+        V3 {
+            x: self.x + o.x,
+            y: self.y + o.y,
+            z: self.z + o.z,
+        }
+    }
+}
+
+impl<L: Lane> Sub for V3<L> {
+    type Output = Self;
+    #[inline(always)]
+    fn sub(self, o: Self) -> Self {
+        V3 {
+            x: self.x - o.x,
+            y: self.y - o.y,
+            z: self.z - o.z,
+        }
+    }
+}
+
+impl<L: Lane> Neg for V3<L> {
+    type Output = Self;
+    #[inline(always)]
+    fn neg(self) -> Self {
+        V3 {
+            x: -self.x,
+            y: -self.y,
+            z: -self.z,
+        }
+    }
+}
+
+/// `Quat` with one lane per constraint.
+#[derive(Clone, Copy, Debug)]
+pub struct Q<L> {
+    pub x: L,
+    pub y: L,
+    pub z: L,
+    pub w: L,
+}
+
+impl<L: Lane> Q<L> {
+    #[inline(always)]
+    pub fn from_fn(mut f: impl FnMut(usize) -> Quat) -> Self {
+        let mut v = [Quat::IDENTITY; 8];
+        for (i, x) in v.iter_mut().take(L::W).enumerate() {
+            *x = f(i);
+        }
+        Q {
+            x: L::from_fn(|i| v[i].x),
+            y: L::from_fn(|i| v[i].y),
+            z: L::from_fn(|i| v[i].z),
+            w: L::from_fn(|i| v[i].w),
+        }
+    }
+    #[inline(always)]
+    pub fn lane(&self, i: usize) -> Quat {
+        Quat::from_xyzw(self.x.lane(i), self.y.lane(i), self.z.lane(i), self.w.lane(i))
+    }
+    #[inline(always)]
+    pub fn xyz(self) -> V3<L> {
+        V3 {
+            x: self.x,
+            y: self.y,
+            z: self.z,
+        }
+    }
+    #[inline(always)]
+    pub fn conjugate(self) -> Self {
+        Q {
+            x: -self.x,
+            y: -self.y,
+            z: -self.z,
+            w: self.w,
+        }
+    }
+    /// Hamilton product `self * o`.
+    #[inline(always)]
+    pub fn mul(self, o: Self) -> Self {
+        Q {
+            x: self.w * o.x + self.x * o.w + self.y * o.z - self.z * o.y,
+            y: self.w * o.y - self.x * o.z + self.y * o.w + self.z * o.x,
+            z: self.w * o.z + self.x * o.y - self.y * o.x + self.z * o.w,
+            w: self.w * o.w - self.x * o.x - self.y * o.y - self.z * o.z,
+        }
+    }
+    /// `self * v * self^-1` for a unit quaternion: `v + 2 w (u x v) + 2 u x (u x v)`.
+    #[inline(always)]
+    pub fn rotate(self, v: V3<L>) -> V3<L> {
+        let u = self.xyz();
+        let t = u.cross(v);
+        let t = t + t;
+        v + t.scale(self.w) + u.cross(t)
+    }
+    /// The image of the x axis, `self * (1, 0, 0)` (the joint and rod frames' first axis).
+    #[inline(always)]
+    pub fn x_axis(self) -> V3<L> {
+        let two = L::splat(2.0);
+        V3 {
+            x: L::splat(1.0) - two * (self.y * self.y + self.z * self.z),
+            y: two * (self.x * self.y + self.w * self.z),
+            z: two * (self.x * self.z - self.w * self.y),
+        }
+    }
+    #[inline(always)]
+    pub fn normalize(self) -> Self {
+        let n = (self.x * self.x + self.y * self.y + self.z * self.z + self.w * self.w).sqrt();
+        let inv = L::splat(1.0) / n;
+        Q {
+            x: self.x * inv,
+            y: self.y * inv,
+            z: self.z * inv,
+            w: self.w * inv,
+        }
+    }
+    /// `q` on the hemisphere `w >= 0` (same rotation).
+    #[inline(always)]
+    pub fn positive_w(self) -> Self {
+        let flip = self.w.lt(L::zero()).select(L::splat(-1.0), L::splat(1.0));
+        Q {
+            x: self.x * flip,
+            y: self.y * flip,
+            z: self.z * flip,
+            w: self.w * flip,
+        }
+    }
+    /// The logarithm map (rotation vector, angle in [-pi, pi]) of a unit quaternion, as
+    /// [`crate::math::rotation_vector`].
+    #[inline(always)]
+    pub fn rotation_vector(self) -> V3<L> {
+        let q = self.positive_w();
+        let s = q.xyz().length();
+        let small = s.lt(L::splat(1e-7));
+        let angle = L::splat(2.0) * s.atan2(q.w);
+        let factor = small.select(L::splat(2.0), angle / s.max(L::splat(1e-7)));
+        q.xyz().scale(factor)
+    }
+    /// [`crate::math::rotate_by_small`]: `q + 0.5 [theta, 0] q`, renormalised.
+    #[inline(always)]
+    pub fn rotate_by_small(self, theta: V3<L>) -> Self {
+        let half = L::splat(0.5);
+        let dq = Q {
+            x: theta.x,
+            y: theta.y,
+            z: theta.z,
+            w: L::zero(),
+        }
+        .mul(self);
+        Q {
+            x: self.x + half * dq.x,
+            y: self.y + half * dq.y,
+            z: self.z + half * dq.z,
+            w: self.w + half * dq.w,
+        }
+        .normalize()
+    }
+}
+
+/// A symmetric 3x3 matrix (world inverse inertia), one lane per constraint.
+#[derive(Clone, Copy, Debug)]
+pub struct SymM3<L> {
+    pub xx: L,
+    pub yy: L,
+    pub zz: L,
+    pub xy: L,
+    pub xz: L,
+    pub yz: L,
+}
+
+impl<L: Lane> SymM3<L> {
+    #[inline(always)]
+    pub fn mul_vec(&self, v: V3<L>) -> V3<L> {
+        V3 {
+            x: self.xx * v.x + self.xy * v.y + self.xz * v.z,
+            y: self.xy * v.x + self.yy * v.y + self.yz * v.z,
+            z: self.xz * v.x + self.yz * v.y + self.zz * v.z,
+        }
+    }
+}
+
+/// W solver bodies, one per lane, gathered by index.
+#[derive(Clone, Copy, Debug)]
+pub struct BodyLanes<L> {
+    pub position: V3<L>,
+    pub orientation: Q<L>,
+    pub predicted: Q<L>,
+    pub rotation_correction: V3<L>,
+    pub inverse_mass: L,
+    pub inverse_inertia: SymM3<L>,
+}
+
+impl<L: Lane> BodyLanes<L> {
+    /// Gathers body `index[i]` into lane i.
+    ///
+    /// # Safety
+    /// No other thread may be writing those bodies (see [`SharedBodies`]).
+    #[inline(always)]
+    pub unsafe fn gather(bodies: SharedBodies, index: &[u32]) -> Self {
+        let mut copies = [super::body::SolverBody::default(); 8];
+        for (i, copy) in copies.iter_mut().enumerate().take(L::W) {
+            *copy = bodies.read(index[i]);
+        }
+        let b = |i: usize| &copies[i];
+        let m = |i: usize| b(i).inverse_inertia;
+        BodyLanes {
+            position: V3::from_fn(|i| b(i).position),
+            orientation: Q::from_fn(|i| b(i).orientation),
+            predicted: Q::from_fn(|i| b(i).predicted),
+            rotation_correction: V3::from_fn(|i| b(i).rotation_correction),
+            inverse_mass: L::from_fn(|i| b(i).inverse_mass),
+            inverse_inertia: SymM3 {
+                xx: L::from_fn(|i| m(i).x_axis.x),
+                yy: L::from_fn(|i| m(i).y_axis.y),
+                zz: L::from_fn(|i| m(i).z_axis.z),
+                xy: L::from_fn(|i| m(i).y_axis.x),
+                xz: L::from_fn(|i| m(i).z_axis.x),
+                yz: L::from_fn(|i| m(i).z_axis.y),
+            },
+        }
+    }
+
+    /// Writes the moving parts (pose and correction) back to body `index[i]`, skipping
+    /// immovable bodies: static bodies may repeat an index across lanes, and never change.
+    ///
+    /// # Safety
+    /// The movable bodies among `index` must be this batch's alone (see [`SharedBodies`]).
+    #[inline(always)]
+    pub unsafe fn scatter(&self, bodies: SharedBodies, index: &[u32]) {
+        for (i, &k) in index.iter().enumerate().take(L::W) {
+            if bodies.read(k).inverse_mass == 0.0 {
+                continue;
+            }
+            let body = bodies.get_mut(k);
+            body.position = self.position.lane(i);
+            body.orientation = self.orientation.lane(i);
+            body.rotation_correction = self.rotation_correction.lane(i);
+        }
+    }
+
+    #[inline(always)]
+    fn rotate_preview(&mut self, dtheta: V3<L>) {
+        self.rotation_correction = self.rotation_correction + dtheta;
+        self.orientation = self.predicted.rotate_by_small(self.rotation_correction);
+    }
+
+    /// [`SolverBody::apply_positional_impulse`] per lane.
+    #[inline(always)]
+    pub fn apply_positional_impulse(&mut self, impulse: V3<L>, r: V3<L>) {
+        self.position = self.position + impulse.scale(self.inverse_mass);
+        let dtheta = self.inverse_inertia.mul_vec(r.cross(impulse));
+        self.rotate_preview(dtheta);
+    }
+
+    /// [`SolverBody::apply_linear_impulse`] per lane.
+    #[inline(always)]
+    pub fn apply_linear_impulse(&mut self, impulse: V3<L>) {
+        self.position = self.position + impulse.scale(self.inverse_mass);
+    }
+
+    /// [`SolverBody::apply_angular_impulse`] per lane.
+    #[inline(always)]
+    pub fn apply_angular_impulse(&mut self, l: V3<L>) {
+        let dtheta = self.inverse_inertia.mul_vec(l);
+        self.rotate_preview(dtheta);
+    }
+
+    #[inline(always)]
+    pub fn positional_inverse_mass(&self, r: V3<L>, n: V3<L>) -> L {
+        let rn = r.cross(n);
+        self.inverse_mass + rn.dot(self.inverse_inertia.mul_vec(rn))
+    }
+
+    #[inline(always)]
+    pub fn angular_inverse_mass(&self, g: V3<L>) -> L {
+        g.dot(self.inverse_inertia.mul_vec(g))
+    }
+}
+
+impl SymMat3 {
+    /// Lane `i` of a [`SymM3`].
+    pub fn from_lanes<L: Lane>(m: &SymM3<L>, i: usize) -> SymMat3 {
+        SymMat3 {
+            xx: m.xx.lane(i),
+            yy: m.yy.lane(i),
+            zz: m.zz.lane(i),
+            xy: m.xy.lane(i),
+            xz: m.xz.lane(i),
+            yz: m.yz.lane(i),
+        }
+    }
+}

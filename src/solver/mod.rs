@@ -1,0 +1,437 @@
+//! The step: an impulse-based solver from preview coordinates with a fixed number of
+//! iterations (paper §4, after Bender and Schmitt 2006), written in position-level form.
+//!
+//! Bender and Schmitt apply impulses to velocities so that the preview pose `x* = x + h v`
+//! satisfies each constraint. A velocity change `dv` moves the preview by `h dv`, so applying
+//! the correction to `x*` directly and deriving `v = (x* - x) / h` at the end is the same
+//! method with less bookkeeping (as in position-based dynamics). Soft constraints remove a
+//! fraction alpha in [0, 1] of their error per iteration; hard constraints use alpha = 1.
+//!
+//! Step order, one frame of `dt` split into `substeps` substeps of `h = dt / substeps`
+//! (`substeps = 1` is the paper's method and the reference; smaller steps buy more accuracy per
+//! constraint solve than more iterations, Macklin et al. 2019, "Small Steps in Physics
+//! Simulation"):
+//! 1. contact detection, once per frame, at the current poses (speculative: points are made
+//!    within a margin grown by how far the bodies may travel in the whole frame);
+//! 2. prepare: flatten joints, rods and contact points into rows stored per kind, and colour
+//!    each kind's rows so rows of one colour share no movable body ([`graph`]); joints and
+//!    rods are coloured so that solving by colour is exactly the sequential sweep in their
+//!    stored order (the paper's solver, scalar or SIMD alike), contact points greedily;
+//! 3. for each substep:
+//!    1. apply gravity and external forces to the linear velocities; update angular
+//!       velocities with the gyroscopic term (implicit, see [`gyroscopic_update`]); apply
+//!       damping, if any;
+//!    2. predict the preview poses `p* = p + h v`, `q* = exp(h w) q` (exact exponential map)
+//!       into the hot [`SolverBody`] array, with each body's world inverse inertia there;
+//!       take the rows' per-substep constants (the limits' starting twist);
+//!    3. `iterations` times: solve the rods, then the joints, then the contact points, each
+//!       kind colour by colour (the humanoid builder appends a ragdoll's rod before its
+//!       joints, so for ragdolls this is their stored order); within a colour rows are independent, so they are solved
+//!       [`SolverKind::Scalar`] one by one or [`SolverKind::Simd`] W at a time, and on
+//!       several threads when a colour is large enough ([`PARALLEL_MIN_ROWS`]);
+//!    4. derive the velocities `v = (p* - p) / h`, `w = log(q* q^-1) / h` and commit the poses
+//!       back to the [`Body`]s;
+//!    5. the contacts' velocity pass: each contact that pushed in this substep leaves with zero
+//!       relative normal velocity, or bounces (restitution);
+//! 4. the caller checks every body for NaN and for speeds above the explosion bounds, then
+//!    measures residuals on the final poses (paper Fig. 8), once per frame.
+//!
+//! Results do not depend on the thread count: colours are built in a fixed order and the rows
+//! of a colour write disjoint bodies. Once warmed up, the step does not allocate: every
+//! vector here is reused from frame to frame.
+
+pub mod body;
+pub mod graph;
+pub mod lanes;
+
+use crate::body::{Body, BodyKind};
+use crate::constraint::{Constraint, JointRow, RodRow};
+use crate::contact::{ContactPoint, Contacts};
+use crate::math::{quat_from_rotation_vector, rotation_vector, skew, Mat3, Vec3};
+use body::{SharedBodies, SolverBody};
+use graph::{Colouring, Colours, Order};
+use rayon::prelude::*;
+
+/// A colour with at least this many rows is split across threads (when there are several);
+/// below it the hand-off costs more than it saves.
+pub const PARALLEL_MIN_ROWS: usize = 256;
+
+/// Bodies integrated per parallel task.
+const BODY_CHUNK: usize = 512;
+
+/// How the rows of a colour are solved.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SolverKind {
+    /// One row after another: the reference.
+    #[default]
+    Scalar,
+    /// W rows at once in SIMD lanes, branch-free (paper §7); the same maths.
+    Simd,
+}
+
+impl std::fmt::Display for SolverKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            SolverKind::Scalar => "scalar",
+            SolverKind::Simd => "simd",
+        })
+    }
+}
+
+/// Simulation settings (from the scene file, overridable on the command line).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Settings {
+    pub gravity: Vec3,
+    /// Frame time step (s).
+    pub dt: f32,
+    /// Solver iterations per substep (paper §8: a fixed number).
+    pub iterations: u32,
+    /// Substeps per frame, each of `dt / substeps` with `iterations` sweeps (Macklin et al.
+    /// 2019). 1 is the paper's method and the reference.
+    pub substeps: u32,
+    pub solver: SolverKind,
+    /// A dynamic body faster than this (m/s) counts as exploded.
+    pub max_linear_speed: f32,
+    /// A dynamic body spinning faster than this (rad/s) counts as exploded.
+    pub max_angular_speed: f32,
+    /// Whether bodies collide. Off, the step does no collision work at all.
+    pub contacts: bool,
+    /// Contact points are made this far (m) before the surfaces touch.
+    pub contact_margin: f32,
+    /// Velocity damping rates (1/s): each substep `v /= 1 + h c`. Zero (the default) in the
+    /// paper's scenes; a game scene may use a little to let piles come to rest.
+    pub linear_damping: f32,
+    pub angular_damping: f32,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            gravity: Vec3::new(0.0, -9.81, 0.0),
+            dt: 1.0 / 60.0,
+            iterations: 20,
+            substeps: 1,
+            solver: SolverKind::Scalar,
+            max_linear_speed: DEFAULT_MAX_LINEAR_SPEED,
+            max_angular_speed: DEFAULT_MAX_ANGULAR_SPEED,
+            contacts: false,
+            contact_margin: 0.02,
+            linear_damping: 0.0,
+            angular_damping: 0.0,
+        }
+    }
+}
+
+/// Default explosion bound on linear speed (m/s): well above anything a falling ragdoll or a
+/// thrown prop reaches in our scenes (a 50 m/s projectile is the fastest).
+pub const DEFAULT_MAX_LINEAR_SPEED: f32 = 250.0;
+/// Default explosion bound on angular speed (rad/s), about 80 turns per second.
+pub const DEFAULT_MAX_ANGULAR_SPEED: f32 = 500.0;
+
+/// The solver's per-step storage, reused from frame to frame: hot bodies and rows per kind.
+#[derive(Clone, Debug, Default)]
+pub struct Solver {
+    bodies: Vec<SolverBody>,
+    movable: Vec<bool>,
+    joints: Vec<JointRow>,
+    joint_colours: Colours,
+    rods: Vec<RodRow>,
+    rod_colours: Colours,
+    contact_colours: Colours,
+    colouring: Colouring,
+    joint_scratch: Vec<JointRow>,
+    rod_scratch: Vec<RodRow>,
+    contact_scratch: Vec<ContactPoint>,
+}
+
+impl Solver {
+    /// Advances the bodies by one frame of `settings.dt` (steps 1-3 of the module docs).
+    pub fn step(
+        &mut self,
+        settings: &Settings,
+        bodies: &mut [Body],
+        constraints: &[Constraint],
+        contacts: &mut Contacts,
+    ) {
+        let dt = settings.dt;
+        let substeps = settings.substeps.max(1);
+        let h = dt / substeps as f32;
+        // 1. contacts at the current poses, once per frame
+        if settings.contacts {
+            contacts.detect(bodies, constraints, dt, settings.contact_margin);
+        }
+        // 2. prepare: rows per kind, coloured
+        self.prepare(bodies, constraints, contacts);
+        // 3. substeps
+        for _ in 0..substeps {
+            self.substep(settings, h, bodies, contacts);
+        }
+    }
+
+    /// Step 2: rows per kind, coloured.
+    fn prepare(&mut self, bodies: &[Body], constraints: &[Constraint], contacts: &mut Contacts) {
+        self.movable.clear();
+        self.movable.extend(bodies.iter().map(Body::is_dynamic));
+        self.joints.clear();
+        self.rods.clear();
+        for constraint in constraints {
+            match constraint {
+                Constraint::BallSocket(joint) => self.joints.push(joint.prepare()),
+                Constraint::Rod(rod) => self.rods.push(rod.prepare()),
+            }
+        }
+        let movable = &self.movable;
+        self.colouring.colour(
+            Order::Kept,
+            &mut self.joints,
+            &mut self.joint_scratch,
+            &mut self.joint_colours,
+            movable,
+            |r| (r.body_a, r.body_b),
+        );
+        self.colouring.colour(
+            Order::Kept,
+            &mut self.rods,
+            &mut self.rod_scratch,
+            &mut self.rod_colours,
+            movable,
+            |r| (r.body_a, r.body_b),
+        );
+        self.colouring.colour(
+            Order::Kept,
+            &mut contacts.points,
+            &mut self.contact_scratch,
+            &mut self.contact_colours,
+            movable,
+            |p| (p.body_a.0, p.body_b.0),
+        );
+    }
+
+    /// Step 3: one substep of `h`.
+    fn substep(&mut self, settings: &Settings, h: f32, bodies: &mut [Body], contacts: &mut Contacts) {
+        let parallel = rayon::current_num_threads() > 1;
+        // 3.1-3.2 velocities, then the preview poses into the hot array
+        self.bodies.resize(bodies.len(), SolverBody::default());
+        let predict = |(body, hot): (&mut Body, &mut SolverBody)| {
+            integrate_velocity(body, settings, h);
+            *hot = predict_pose(body, h);
+        };
+        if parallel && bodies.len() >= 2 * BODY_CHUNK {
+            bodies
+                .par_chunks_mut(BODY_CHUNK)
+                .zip(self.bodies.par_chunks_mut(BODY_CHUNK))
+                .for_each(|(b, s)| b.iter_mut().zip(s).for_each(predict));
+        } else {
+            bodies.iter_mut().zip(&mut self.bodies).for_each(predict);
+        }
+        for row in &mut self.joints {
+            row.begin_substep(bodies);
+        }
+        contacts.begin_substep();
+        // 3.3 fixed iterations, kind by kind, colour by colour
+        let shared = SharedBodies::new(&mut self.bodies);
+        let kind = settings.solver;
+        for _ in 0..settings.iterations {
+            solve_colours(&mut self.rods, &self.rod_colours, shared, kind, parallel, |row, a, b| {
+                row.solve(a, b)
+            }, crate::constraint::rod_lanes::solve_batch);
+            solve_colours(&mut self.joints, &self.joint_colours, shared, kind, parallel, |row, a, b| {
+                row.solve(a, b)
+            }, crate::constraint::ball_socket_lanes::solve_batch);
+            solve_colours(&mut contacts.points, &self.contact_colours, shared, kind, parallel, |p, a, b| {
+                p.solve(a, b)
+            }, crate::contact::lanes::solve_batch);
+        }
+        // 3.4 velocities from the corrected previews; commit the poses
+        let commit = |(body, hot): (&mut Body, &SolverBody)| commit_pose(body, hot, h);
+        if parallel && bodies.len() >= 2 * BODY_CHUNK {
+            bodies
+                .par_chunks_mut(BODY_CHUNK)
+                .zip(self.bodies.par_chunks(BODY_CHUNK))
+                .for_each(|(b, s)| b.iter_mut().zip(s).for_each(commit));
+        } else {
+            bodies.iter_mut().zip(&self.bodies).for_each(commit);
+        }
+        // 3.5 the contacts' velocity pass; bounces slower than two frames of free fall stay
+        // inelastic
+        if settings.contacts {
+            let threshold = 2.0 * settings.gravity.length() * settings.dt;
+            contacts.velocity_pass(bodies, threshold);
+        }
+    }
+
+    /// Colours per kind at the last step: (joints, rods, contacts), for benchmarks and reports.
+    pub fn colour_counts(&self) -> (usize, usize, usize) {
+        (
+            self.joint_colours.count(),
+            self.rod_colours.count(),
+            self.contact_colours.count(),
+        )
+    }
+}
+
+/// A kernel solving W rows at once: `rows.len()` is the lane width.
+pub type BatchKernel<T> = fn(&mut [T], SharedBodies);
+
+/// Lane width of [`SolverKind::Simd`] (chosen by measurement: see `benches/solver.rs`).
+pub const SIMD_WIDTH: usize = 4;
+
+/// Solves every colour of one kind's rows once. Rows of a colour are independent: the scalar
+/// kernel takes them one by one, the SIMD kernel [`SIMD_WIDTH`] at a time (a remainder one by
+/// one); a large colour is split into chunks across threads. The overflow colour is always
+/// sequential.
+fn solve_colours<T: Send>(
+    rows: &mut [T],
+    colours: &Colours,
+    bodies: SharedBodies,
+    kind: SolverKind,
+    parallel: bool,
+    one: impl Fn(&mut T, &mut SolverBody, &mut SolverBody) + Sync,
+    batch: BatchKernel<T>,
+) where
+    T: RowBodies,
+{
+    let solve_chunk = |chunk: &mut [T]| {
+        let mut rest: &mut [T] = chunk;
+        if kind == SolverKind::Simd {
+            let full = rest.len() / SIMD_WIDTH * SIMD_WIDTH;
+            let (lanes, tail) = rest.split_at_mut(full);
+            for group in lanes.chunks_exact_mut(SIMD_WIDTH) {
+                batch(group, bodies);
+            }
+            rest = tail;
+        }
+        for row in rest {
+            let (a, b) = row.bodies();
+            // SAFETY: rows of a colour share no movable body, and chunks of a colour are
+            // disjoint; the overflow colour runs on one thread.
+            unsafe { bodies.with_pair(a, b, |a, b| one(row, a, b)) };
+        }
+    };
+    for (colour, range) in colours.ranges() {
+        let rows = &mut rows[range];
+        if colours.is_overflow(colour) {
+            for row in rows {
+                let (a, b) = row.bodies();
+                // SAFETY: one row at a time.
+                unsafe { bodies.with_pair(a, b, |a, b| one(row, a, b)) };
+            }
+        } else if parallel && rows.len() >= PARALLEL_MIN_ROWS {
+            let chunk = (rows.len() / rayon::current_num_threads()).div_ceil(SIMD_WIDTH) * SIMD_WIDTH;
+            rows.par_chunks_mut(chunk.max(SIMD_WIDTH)).for_each(solve_chunk);
+        } else {
+            solve_chunk(rows);
+        }
+    }
+}
+
+/// A row's two body indices.
+pub trait RowBodies {
+    fn bodies(&self) -> (u32, u32);
+}
+
+impl RowBodies for JointRow {
+    fn bodies(&self) -> (u32, u32) {
+        (self.body_a, self.body_b)
+    }
+}
+
+impl RowBodies for RodRow {
+    fn bodies(&self) -> (u32, u32) {
+        (self.body_a, self.body_b)
+    }
+}
+
+impl RowBodies for ContactPoint {
+    fn bodies(&self) -> (u32, u32) {
+        (self.body_a.0, self.body_b.0)
+    }
+}
+
+/// Step 3.1: gravity, external force, the gyroscopic term and damping.
+fn integrate_velocity(body: &mut Body, settings: &Settings, h: f32) {
+    if !body.is_dynamic() {
+        return;
+    }
+    body.linear_velocity += h * (settings.gravity + body.external_force * body.inverse_mass);
+    body.angular_velocity = gyroscopic_update(body, h) / (1.0 + h * settings.angular_damping);
+    body.linear_velocity /= 1.0 + h * settings.linear_damping;
+}
+
+/// Step 3.2: the preview pose of a body as the hot solver body. Fixed bodies stay put.
+fn predict_pose(body: &Body, h: f32) -> SolverBody {
+    let (position, orientation) = if body.kind == BodyKind::Fixed {
+        (body.position, body.orientation)
+    } else {
+        (
+            body.position + h * body.linear_velocity,
+            (quat_from_rotation_vector(h * body.angular_velocity) * body.orientation).normalize(),
+        )
+    };
+    SolverBody {
+        orientation,
+        predicted: orientation,
+        position,
+        inverse_mass: body.inverse_mass,
+        rotation_correction: Vec3::ZERO,
+        inverse_inertia: {
+            let r = Mat3::from_quat(orientation);
+            r * Mat3::from_diagonal(body.inverse_inertia_body) * r.transpose()
+        },
+    }
+}
+
+/// Step 3.4: velocities from the corrected preview, then the pose is committed.
+fn commit_pose(body: &mut Body, hot: &SolverBody, h: f32) {
+    if body.kind == BodyKind::Fixed {
+        return;
+    }
+    if body.is_dynamic() {
+        body.linear_velocity = (hot.position - body.position) / h;
+        body.angular_velocity = rotation_vector(hot.orientation * body.orientation.inverse()) / h;
+    }
+    body.position = hot.position;
+    body.orientation = hot.orientation;
+    body.preview_position = hot.position;
+    body.preview_orientation = hot.orientation;
+    body.predicted_orientation = hot.orientation;
+    body.rotation_correction = Vec3::ZERO;
+    body.update_world_inertia();
+}
+
+/// Torque-free update of the angular velocity (the gyroscopic term of Euler's equations).
+///
+/// In body space `dL_b/dt = L_b x w_b`; over a step with constant `w_b` its exact solution turns
+/// `L_b` by `exp(-dt w_b)`, while the orientation turns by `exp(dt w_b)`, so world `L = R L_b` is
+/// unchanged when both use the same `w_b`. We solve that for the new velocity,
+/// `w_b = I^-1 exp(-dt w_b) L_b`, by fixed-point iteration started from one implicit Newton step
+/// (Catto, GDC 2015). At the fixed point a free body's angular momentum is conserved exactly
+/// (see `tests/conservation.rs` for the tolerance measured). If the iteration does not contract
+/// (a very fast spin of a very elongated body at a long time step), the Newton step is kept: it is
+/// unconditionally stable and only slightly dissipative.
+pub fn gyroscopic_update(body: &Body, dt: f32) -> Vec3 {
+    let q = body.orientation;
+    let w = q.inverse() * body.angular_velocity;
+    let inertia = Mat3::from_diagonal(body.inertia);
+    let momentum = inertia * w;
+    let f = dt * w.cross(momentum);
+    let jacobian = inertia + dt * (skew(w) * inertia - skew(momentum));
+    if jacobian.determinant().abs() < 1e-20 {
+        return body.angular_velocity;
+    }
+    let newton = w - jacobian.inverse() * f;
+    let inverse_inertia = body.inertia.recip();
+    let mut current = newton;
+    let mut last_change = f32::INFINITY;
+    for _ in 0..4 {
+        let next = inverse_inertia * (quat_from_rotation_vector(-dt * current) * momentum);
+        let change = (next - current).length();
+        if !(change < last_change) {
+            return q * newton; // not contracting
+        }
+        current = next;
+        last_change = change;
+    }
+    q * current
+}
