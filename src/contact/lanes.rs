@@ -1,12 +1,103 @@
-//! PLACEHOLDER: ContactPoint rows W at a time. Solves lane by lane with the scalar kernel until the
-//! branch-free SIMD kernel lands.
+//! Contact points W at a time: [`ContactPoint::solve`] on [`Lane`]s, branch-free (paper §7's
+//! batching applied to contacts, as Box2D v3's `contact_solver.c` does with `b2FloatW`).
+//!
+//! The same two parts as the scalar solve, with its branches as masks:
+//! 1. non-penetration: the accumulated impulse `total = max(P_n - C / w, 0)`, active where the
+//!    point penetrates or has pushed this substep (`C < 0 or P_n > 0`) and `w > 0`;
+//! 2. friction on the anchors' tangential slip, only where `P_n > 0`: the whole slip while the
+//!    accumulated friction stays within `mu_s P_n` (sticking), else at most `mu_d P_n` in all
+//!    (sliding, which clears the point's `sticking` flag).
+//!
+//! An inactive lane applies a zero impulse, which leaves its bodies as they were (the
+//! orientation is rebuilt from the same predicted orientation and correction).
 
+use super::ContactPoint;
 use crate::solver::body::SharedBodies;
+use crate::solver::lanes::{BodyLanes, Lane, V3};
 
-pub fn solve_batch(rows: &mut [super::ContactPoint], bodies: SharedBodies) {
-    for row in rows {
-        let (a, b) = crate::solver::RowBodies::bodies(row);
-        // SAFETY: the batch's rows share no movable body.
-        unsafe { bodies.with_pair(a, b, |a, b| row.solve(a, b)) };
+/// Solves `rows` (one colour's points, sharing no movable body) at the lane width of
+/// [`crate::solver::SIMD_WIDTH`].
+pub fn solve_batch(rows: &mut [ContactPoint], bodies: SharedBodies) {
+    solve_lanes::<wide::f32x4>(rows, bodies)
+}
+
+/// Solves `L::W` points at once.
+pub fn solve_lanes<L: Lane>(rows: &mut [ContactPoint], bodies: SharedBodies) {
+    debug_assert_eq!(rows.len(), L::W);
+    let mut index_a = [0u32; 8];
+    let mut index_b = [0u32; 8];
+    for (i, p) in rows.iter().enumerate() {
+        index_a[i] = p.body_a.0;
+        index_b[i] = p.body_b.0;
+    }
+    let (index_a, index_b) = (&index_a[..L::W], &index_b[..L::W]);
+    // SAFETY: the rows of a batch share no movable body (graph colouring).
+    let (mut a, mut b) = unsafe {
+        (
+            BodyLanes::<L>::gather(bodies, index_a),
+            BodyLanes::<L>::gather(bodies, index_b),
+        )
+    };
+    let n = V3::<L>::from_fn(|i| rows[i].normal);
+    let local_a = V3::<L>::from_fn(|i| rows[i].local_a);
+    let local_b = V3::<L>::from_fn(|i| rows[i].local_b);
+    let mut normal_impulse = L::from_fn(|i| rows[i].normal_impulse);
+    let zero = L::zero();
+
+    // 1. non-penetration
+    let ra = a.orientation.rotate(local_a);
+    let rb = b.orientation.rotate(local_b);
+    let separation = ((b.position + rb) - (a.position + ra)).dot(n);
+    let w = a.positional_inverse_mass(ra, n) + b.positional_inverse_mass(rb, n);
+    let active = w.gt(zero) & (separation.lt(zero) | normal_impulse.gt(zero));
+    let total = (normal_impulse - separation / w.max(L::splat(f32::MIN_POSITIVE))).max(zero);
+    let total = active.select(total, normal_impulse);
+    let lambda = total - normal_impulse;
+    normal_impulse = total;
+    a.apply_positional_impulse(n.scale(-lambda), ra);
+    b.apply_positional_impulse(n.scale(lambda), rb);
+
+    // 2. friction, where the point pushes
+    let pushing = normal_impulse.gt(zero);
+    let mut friction_impulse = L::from_fn(|i| rows[i].friction_impulse);
+    let mut slid = zero;
+    if pushing.any() {
+        let anchor_a = V3::<L>::from_fn(|i| rows[i].anchor_a);
+        let anchor_b = V3::<L>::from_fn(|i| rows[i].anchor_b);
+        let static_friction = L::from_fn(|i| rows[i].static_friction);
+        let dynamic_friction = L::from_fn(|i| rows[i].dynamic_friction);
+        let ra = a.orientation.rotate(anchor_a);
+        let rb = b.orientation.rotate(anchor_b);
+        let slip = (b.position + rb) - (a.position + ra);
+        let tangential = slip - n.scale(slip.dot(n));
+        let length = tangential.length();
+        let moving = length.gt(L::splat(1e-9));
+        let t = tangential.scale(moving.select(L::splat(1.0) / length.max(L::splat(1e-9)), zero));
+        let w = a.positional_inverse_mass(ra, t) + b.positional_inverse_mass(rb, t);
+        let active = pushing & moving & w.gt(zero);
+        let needed = length / w.max(L::splat(f32::MIN_POSITIVE));
+        // `<=` as in the scalar code
+        let limit = static_friction * normal_impulse;
+        let within = (friction_impulse + needed).le(limit);
+        let sliding =
+            (dynamic_friction * normal_impulse - friction_impulse).max(zero).min(needed);
+        let applied = active.select(within.select(needed, sliding), zero);
+        slid = active & limit.lt(friction_impulse + needed);
+        a.apply_positional_impulse(t.scale(applied), ra);
+        b.apply_positional_impulse(t.scale(-applied), rb);
+        friction_impulse = friction_impulse + applied.max(zero);
+    }
+
+    // SAFETY: as for the gather.
+    unsafe {
+        a.scatter(bodies, index_a);
+        b.scatter(bodies, index_b);
+    }
+    for (i, p) in rows.iter_mut().enumerate() {
+        p.normal_impulse = normal_impulse.lane(i);
+        p.friction_impulse = friction_impulse.lane(i);
+        if slid.lane(i).to_bits() != 0 {
+            p.sticking = false;
+        }
     }
 }

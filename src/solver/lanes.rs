@@ -35,6 +35,7 @@ pub trait Lane:
     fn min(self, o: Self) -> Self;
     fn lt(self, o: Self) -> Self;
     fn gt(self, o: Self) -> Self;
+    fn le(self, o: Self) -> Self;
     /// Per lane: `t` where the mask `self` is set, else `f`.
     fn select(self, t: Self, f: Self) -> Self;
     fn atan2(self, x: Self) -> Self;
@@ -96,6 +97,10 @@ macro_rules! impl_lane {
             #[inline(always)]
             fn gt(self, o: Self) -> Self {
                 self.simd_gt(o)
+            }
+            #[inline(always)]
+            fn le(self, o: Self) -> Self {
+                self.simd_le(o)
             }
             #[inline(always)]
             fn select(self, t: Self, f: Self) -> Self {
