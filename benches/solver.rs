@@ -1,108 +1,88 @@
-//! Criterion benchmarks: ns per constraint solve (ball-and-socket cheap, exact, exact with
-//! limits; the rod with bend and twist) in one group, and one passive-bending step per spine. Run with `cargo bench --bench solver`.
+//! Criterion benchmarks: ns per constraint solve, scalar and SIMD (W = 4 and W = 8), for
+//! ball-and-socket joints (cheap, exact, exact with limits) and the rod (bend, twist, curve and
+//! length in one function), 64 independent constraints a batch; then one passive-bending step
+//! per spine. After criterion's report, a summary table with the rod/cheap ratio per solver.
+//! Run with `cargo bench --bench solver`.
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
-use rodlab::body::BodyId;
-use rodlab::body::{Body, BodyKind};
-use rodlab::constraint::{AngularLimit, BallSocket, Constraint, JointFlavour, Rod};
+use rodlab::body::{Body, BodyId, BodyKind};
+use rodlab::constraint::{
+    ball_socket_lanes, rod_lanes, AngularLimit, BallSocket, JointFlavour, JointRow, Rod, RodRow,
+};
 use rodlab::math::{Quat, Vec3};
 use rodlab::ragdoll::SpineKind;
 use rodlab::scene::Scene;
 use rodlab::shape::{Axis, Shape};
 use rodlab::sim::{self, NoObserver, Overrides};
+use rodlab::solver::body::{SharedBodies, SolverBody};
+use std::time::Instant;
 
-const JOINTS: usize = 64;
+const COUNT: usize = 64;
 
-/// A chain of capsules, each displaced and turned off its joint, so every solve does real work.
-fn dislocated_chain(flavour: JointFlavour, limits: bool) -> (Vec<Body>, Vec<Constraint>) {
+fn capsule(name: String, mass: f32, radius: f32) -> Body {
+    let shape = Shape::Capsule {
+        half_height: 0.08,
+        radius,
+        axis: Axis::Y,
+    };
+    Body::new(name, BodyKind::Dynamic, shape, mass)
+}
+
+/// `COUNT` independent pairs of capsules joined at a shared anchor, each pair then displaced
+/// and turned off its joint (and past its limits), so every solve does real work.
+fn dislocated_joints(flavour: JointFlavour, limits: bool) -> (Vec<SolverBody>, Vec<JointRow>) {
     let mut bodies = Vec::new();
-    let mut constraints = Vec::new();
-    for i in 0..=JOINTS {
-        let centre = Vec3::new(0.0, -0.2 * i as f32, 0.0);
+    let mut rows = Vec::new();
+    for i in 0..COUNT {
+        let x = i as f32;
         bodies.push(
-            Body::new(
-                format!("b{i}"),
-                BodyKind::Dynamic,
-                Shape::Capsule {
-                    half_height: 0.08,
-                    radius: 0.03,
-                    axis: Axis::Y,
-                },
-                1.0,
-            )
-            .with_pose(centre, Quat::IDENTITY),
+            capsule(format!("a{i}"), 1.0, 0.03).with_pose(Vec3::new(x, 0.0, 0.0), Quat::IDENTITY),
         );
-    }
-    for i in 0..JOINTS {
-        let anchor = Vec3::new(0.0, -0.2 * i as f32 - 0.1, 0.0);
-        let mut joint = BallSocket::at_world_anchor(
-            format!("j{i}"),
-            &bodies,
-            rodlab::body::BodyId(i as u32),
-            rodlab::body::BodyId(i as u32 + 1),
-            anchor,
-            Quat::from_rotation_z(-std::f32::consts::FRAC_PI_2),
-        )
-        .with_flavour(flavour);
+        bodies.push(
+            capsule(format!("b{i}"), 1.0, 0.03).with_pose(Vec3::new(x, -0.2, 0.0), Quat::IDENTITY),
+        );
+        let frame = Quat::from_rotation_z(-std::f32::consts::FRAC_PI_2);
+        let ids = (BodyId(2 * i as u32), BodyId(2 * i as u32 + 1));
+        let anchor = Vec3::new(x, -0.1, 0.0);
+        let mut joint =
+            BallSocket::at_world_anchor(format!("j{i}"), &bodies, ids.0, ids.1, anchor, frame)
+                .with_flavour(flavour);
         if limits {
             joint = joint.with_limit(AngularLimit::cone(0.3, -0.2, 0.2));
         }
-        constraints.push(Constraint::BallSocket(joint));
-    }
-    for (i, body) in bodies.iter_mut().enumerate() {
-        let wobble = (i as f32 * 1.7).sin();
-        let pose_offset = Vec3::new(0.02 * wobble, 0.01, -0.015 * wobble);
-        let position = body.position + pose_offset;
-        body.set_pose(
+        let mut row = joint.prepare();
+        let wobble = (x * 1.7).sin();
+        let b = &mut bodies[2 * i + 1];
+        let position = b.position + Vec3::new(0.02 * wobble, 0.01, -0.015 * wobble);
+        b.set_pose(
             position,
             Quat::from_rotation_z(0.5 * wobble) * Quat::from_rotation_x(0.3),
         );
+        row.begin_substep(&bodies);
+        rows.push(row);
     }
-    (bodies, constraints)
+    (bodies.iter().map(SolverBody::from_body).collect(), rows)
 }
 
-/// `JOINTS` independent pelvis-chest pairs joined by rods, each bent, twisted and stretched off
+/// `COUNT` independent pelvis-chest pairs joined by rods, each bent, twisted and stretched off
 /// its rest state.
-fn perturbed_rods() -> (Vec<Body>, Vec<Constraint>) {
+fn perturbed_rods() -> (Vec<SolverBody>, Vec<RodRow>) {
     let mut bodies = Vec::new();
-    let mut constraints = Vec::new();
-    for i in 0..JOINTS {
+    let mut rows = Vec::new();
+    for i in 0..COUNT {
         let x = i as f32;
-        let pelvis = Body::new(
-            format!("p{i}"),
-            BodyKind::Dynamic,
-            Shape::Capsule {
-                half_height: 0.07,
-                radius: 0.1,
-                axis: Axis::X,
-            },
-            14.5,
-        )
-        .with_pose(Vec3::new(x, 1.0, 0.0), Quat::IDENTITY);
-        let chest = Body::new(
-            format!("c{i}"),
-            BodyKind::Dynamic,
-            Shape::Capsule {
-                half_height: 0.07,
-                radius: 0.12,
-                axis: Axis::X,
-            },
-            18.1,
-        )
-        .with_pose(Vec3::new(x, 1.385, 0.0), Quat::IDENTITY);
-        bodies.push(pelvis);
-        bodies.push(chest);
-        let mut rod = Rod::instantiate(
-            format!("r{i}"),
-            &bodies,
-            BodyId(2 * i as u32),
-            BodyId(2 * i as u32 + 1),
-            Vec3::Z,
-        )
-        .unwrap();
+        bodies.push(
+            capsule(format!("p{i}"), 14.5, 0.1).with_pose(Vec3::new(x, 1.0, 0.0), Quat::IDENTITY),
+        );
+        bodies.push(
+            capsule(format!("c{i}"), 18.1, 0.12)
+                .with_pose(Vec3::new(x, 1.385, 0.0), Quat::IDENTITY),
+        );
+        let ids = (BodyId(2 * i as u32), BodyId(2 * i as u32 + 1));
+        let mut rod = Rod::instantiate(format!("r{i}"), &bodies, ids.0, ids.1, Vec3::Z).unwrap();
         rod.alpha_bend = 0.1;
         rod.alpha_twist = 0.5;
-        constraints.push(Constraint::Rod(rod));
+        rows.push(rod.prepare());
         let wobble = (x * 1.7).sin();
         let chest = &mut bodies[2 * i + 1];
         let pose = chest.position + Vec3::new(0.01 * wobble, -0.02, 0.05);
@@ -111,36 +91,169 @@ fn perturbed_rods() -> (Vec<Body>, Vec<Constraint>) {
             Quat::from_rotation_x(0.4 + 0.1 * wobble) * Quat::from_rotation_y(0.2),
         );
     }
-    (bodies, constraints)
+    (bodies.iter().map(SolverBody::from_body).collect(), rows)
 }
 
-fn joint_solves(c: &mut Criterion) {
+#[derive(Clone, Copy, PartialEq)]
+enum Width {
+    Scalar,
+    W4,
+    W8,
+}
+
+const WIDTHS: [(&str, Width); 3] = [
+    ("scalar", Width::Scalar),
+    ("simd4", Width::W4),
+    ("simd8", Width::W8),
+];
+
+fn solve_joints(rows: &mut [JointRow], bodies: &mut [SolverBody], width: Width) {
+    let shared = SharedBodies::new(bodies);
+    match width {
+        Width::Scalar => {
+            for row in rows.iter() {
+                let (a, b) = (row.body_a as usize, row.body_b as usize);
+                let (a, b) = rodlab::solver::body::pair_mut(bodies, a, b);
+                row.solve(a, b);
+            }
+        }
+        Width::W4 => rows
+            .chunks_exact_mut(4)
+            .for_each(|c| ball_socket_lanes::solve_lanes::<wide::f32x4>(c, shared)),
+        Width::W8 => rows
+            .chunks_exact_mut(8)
+            .for_each(|c| ball_socket_lanes::solve_lanes::<wide::f32x8>(c, shared)),
+    }
+}
+
+fn solve_rods(rows: &mut [RodRow], bodies: &mut [SolverBody], width: Width) {
+    let shared = SharedBodies::new(bodies);
+    match width {
+        Width::Scalar => {
+            for row in rows.iter() {
+                let (a, b) = (row.body_a as usize, row.body_b as usize);
+                let (a, b) = rodlab::solver::body::pair_mut(bodies, a, b);
+                row.solve(a, b);
+            }
+        }
+        Width::W4 => rows
+            .chunks_exact_mut(4)
+            .for_each(|c| rod_lanes::solve_lanes::<wide::f32x4>(c, shared)),
+        Width::W8 => rows
+            .chunks_exact_mut(8)
+            .for_each(|c| rod_lanes::solve_lanes::<wide::f32x8>(c, shared)),
+    }
+}
+
+/// The benchmarked kinds: a joint flavour and whether it has limits, or the rod.
+fn cases() -> Vec<(&'static str, Option<(JointFlavour, bool)>)> {
+    vec![
+        ("cheap", Some((JointFlavour::Cheap, false))),
+        ("exact", Some((JointFlavour::Exact, false))),
+        ("exact_with_limits", Some((JointFlavour::Exact, true))),
+        ("rod", None),
+    ]
+}
+
+fn constraint_solves(c: &mut Criterion) {
     let mut group = c.benchmark_group("constraint_solve");
-    group.throughput(Throughput::Elements(JOINTS as u64));
-    for (label, flavour, limits) in [
-        ("cheap", JointFlavour::Cheap, false),
-        ("exact", JointFlavour::Exact, false),
-        ("exact_with_limits", JointFlavour::Exact, true),
-        ("rod", JointFlavour::Exact, false),
-    ] {
-        let (bodies, constraints) = if label == "rod" {
-            perturbed_rods()
-        } else {
-            dislocated_chain(flavour, limits)
-        };
-        group.bench_function(label, |b| {
-            b.iter_batched_ref(
-                || bodies.clone(),
-                |bodies| {
-                    for constraint in &constraints {
-                        constraint.solve(bodies);
-                    }
-                },
-                BatchSize::SmallInput,
-            )
-        });
+    group.throughput(Throughput::Elements(COUNT as u64));
+    for (label, joint) in cases() {
+        for (solver, width) in WIDTHS {
+            let name = format!("{label}/{solver}");
+            match joint {
+                Some((flavour, limits)) => {
+                    let (bodies, rows) = dislocated_joints(flavour, limits);
+                    group.bench_function(&name, |b| {
+                        b.iter_batched_ref(
+                            || (bodies.clone(), rows.clone()),
+                            |(bodies, rows)| solve_joints(rows, bodies, width),
+                            BatchSize::SmallInput,
+                        )
+                    });
+                }
+                None => {
+                    let (bodies, rows) = perturbed_rods();
+                    group.bench_function(&name, |b| {
+                        b.iter_batched_ref(
+                            || (bodies.clone(), rows.clone()),
+                            |(bodies, rows)| solve_rods(rows, bodies, width),
+                            BatchSize::SmallInput,
+                        )
+                    });
+                }
+            }
+        }
     }
     group.finish();
+    summary();
+}
+
+/// ns per constraint: the fastest of many timed rounds of 64 solves (each on a fresh copy).
+fn ns_per_solve(mut round: impl FnMut() -> std::time::Duration) -> f64 {
+    (0..2000).map(|_| round()).min().unwrap().as_nanos() as f64 / COUNT as f64
+}
+
+/// The side-by-side table the issue asks for: scalar and SIMD per kind, and rod/cheap.
+fn summary() {
+    println!(
+        "\nns per constraint (fastest of 2000 rounds of {COUNT}), machine: {}",
+        rodlab::sweep::machine_name()
+    );
+    println!(
+        "{:<20} {:>8} {:>8} {:>8}",
+        "kind", "scalar", "simd4", "simd8"
+    );
+    let mut table = Vec::new();
+    for (label, joint) in cases() {
+        let mut row = Vec::new();
+        for (_, width) in WIDTHS {
+            let ns = match joint {
+                Some((flavour, limits)) => {
+                    let (bodies, rows) = dislocated_joints(flavour, limits);
+                    ns_per_solve(|| {
+                        let (mut b, mut r) = (bodies.clone(), rows.clone());
+                        let start = Instant::now();
+                        solve_joints(&mut r, &mut b, width);
+                        let t = start.elapsed();
+                        std::hint::black_box(&b);
+                        t
+                    })
+                }
+                None => {
+                    let (bodies, rows) = perturbed_rods();
+                    ns_per_solve(|| {
+                        let (mut b, mut r) = (bodies.clone(), rows.clone());
+                        let start = Instant::now();
+                        solve_rods(&mut r, &mut b, width);
+                        let t = start.elapsed();
+                        std::hint::black_box(&b);
+                        t
+                    })
+                }
+            };
+            row.push(ns);
+        }
+        println!(
+            "{:<20} {:>8.1} {:>8.1} {:>8.1}",
+            label, row[0], row[1], row[2]
+        );
+        table.push(row);
+    }
+    let (cheap, rod) = (&table[0], &table[3]);
+    println!(
+        "rod/cheap: scalar {:.2}, simd4 {:.2}, simd8 {:.2} (paper §7: 60/20 = 3)",
+        rod[0] / cheap[0],
+        rod[1] / cheap[1],
+        rod[2] / cheap[2]
+    );
+    println!(
+        "simd speed-up over scalar: cheap {:.2}x/{:.2}x, exact {:.2}x/{:.2}x, limits {:.2}x/{:.2}x, rod {:.2}x/{:.2}x (W=4/W=8)\n",
+        table[0][0] / table[0][1], table[0][0] / table[0][2],
+        table[1][0] / table[1][1], table[1][0] / table[1][2],
+        table[2][0] / table[2][1], table[2][0] / table[2][2],
+        table[3][0] / table[3][1], table[3][0] / table[3][2],
+    );
 }
 
 /// One 20-iteration step of the passive-bending scene with both ragdolls given one spine.
@@ -173,5 +286,5 @@ fn passive_bending_step(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, joint_solves, passive_bending_step);
+criterion_group!(benches, constraint_solves, passive_bending_step);
 criterion_main!(benches);

@@ -45,7 +45,10 @@ fn agree(name: &str, frames: u32, max_gap_m: f32) {
     let (scalar, scalar_report) = run(&scene, SolverKind::Scalar, frames);
     let (simd, simd_report) = run(&scene, SolverKind::Simd, frames);
     let gap = largest_gap(&scalar, &simd);
-    let (ds, dv) = (mean_dislocation(&scalar_report), mean_dislocation(&simd_report));
+    let (ds, dv) = (
+        mean_dislocation(&scalar_report),
+        mean_dislocation(&simd_report),
+    );
     let relative = (ds - dv).abs() / ds.max(1e-12);
     println!(
         "{name}: largest position gap {:.2e} m after {frames} frames; mean dislocation scalar \
@@ -55,7 +58,11 @@ fn agree(name: &str, frames: u32, max_gap_m: f32) {
         simd.solver.colour_counts()
     );
     assert!(gap < max_gap_m, "{name}: positions {gap} m apart");
-    assert!(relative < 0.01, "{name}: residual means {:.3}% apart", 100.0 * relative);
+    assert!(
+        relative < 0.01,
+        "{name}: residual means {:.3}% apart",
+        100.0 * relative
+    );
 }
 
 #[test]
@@ -76,7 +83,10 @@ fn drop_agrees_within_its_own_chaos() {
     let (simd, simd_report) = run(&scene, SolverKind::Simd, frames);
     let mut nudged = scene.build().unwrap();
     let first = nudged.bodies.iter().position(|b| b.is_dynamic()).unwrap();
-    let (p, q) = (nudged.bodies[first].position, nudged.bodies[first].orientation);
+    let (p, q) = (
+        nudged.bodies[first].position,
+        nudged.bodies[first].orientation,
+    );
     nudged.bodies[first].set_pose(p + rodlab::math::Vec3::new(1e-6, 0.0, 0.0), q);
     let nudged_report = sim::run(&mut nudged, frames, &mut NoObserver).unwrap();
     let (gap, chaos) = (largest_gap(&scalar, &simd), largest_gap(&scalar, &nudged));
@@ -89,7 +99,10 @@ fn drop_agrees_within_its_own_chaos() {
         100.0 * simd_apart,
         100.0 * nudged_apart
     );
-    assert!(gap < 2.0 * chaos + 0.01, "simd {gap} m from scalar, the nudge {chaos} m");
+    assert!(
+        gap < 2.0 * chaos + 0.01,
+        "simd {gap} m from scalar, the nudge {chaos} m"
+    );
     assert!(
         simd_apart < 0.01f64.max(2.0 * nudged_apart),
         "residual means {simd_apart} apart, the nudge's {nudged_apart}"

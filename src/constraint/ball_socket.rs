@@ -29,8 +29,8 @@ use super::limits::AngularLimit;
 use super::parts::{point_along_error, point_block, relative_rotation};
 use super::Violation;
 use crate::body::{Body, BodyId};
-use crate::solver::body::SolverBody;
 use crate::math::{rotation_vector, Quat, Vec3};
+use crate::solver::body::SolverBody;
 
 /// How the point part is solved.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize, Default)]
@@ -188,8 +188,10 @@ impl JointRow {
     pub fn begin_substep(&mut self, bodies: &[Body]) {
         if self.limit.is_some() {
             let (a, b) = (&bodies[self.body_a as usize], &bodies[self.body_b as usize]);
-            self.start_twist =
-                AngularLimit::start_twist(a.orientation * self.frame_a, b.orientation * self.frame_b);
+            self.start_twist = AngularLimit::start_twist(
+                a.orientation * self.frame_a,
+                b.orientation * self.frame_b,
+            );
         }
     }
 

@@ -15,8 +15,8 @@
 //! and the twist angle is the hinge angle.
 
 use super::parts::relative_rotation;
-use crate::solver::body::SolverBody;
 use crate::math::{angle_between, any_perpendicular, twist_angle, wrap_angle, Quat, Vec3};
+use crate::solver::body::SolverBody;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AngularLimit {

@@ -10,3 +10,11 @@ pub fn solve_batch(rows: &mut [super::RodRow], bodies: SharedBodies) {
         unsafe { bodies.with_pair(a, b, |a, b| row.solve(a, b)) };
     }
 }
+
+/// PLACEHOLDER: `L::W` rows, lane by lane.
+pub fn solve_lanes<L: crate::solver::lanes::Lane>(
+    rows: &mut [super::RodRow],
+    bodies: SharedBodies,
+) {
+    solve_batch(rows, bodies)
+}

@@ -79,8 +79,9 @@ pub fn solve_lanes<L: Lane>(rows: &mut [ContactPoint], bodies: SharedBodies) {
         // `<=` as in the scalar code
         let limit = static_friction * normal_impulse;
         let within = (friction_impulse + needed).le(limit);
-        let sliding =
-            (dynamic_friction * normal_impulse - friction_impulse).max(zero).min(needed);
+        let sliding = (dynamic_friction * normal_impulse - friction_impulse)
+            .max(zero)
+            .min(needed);
         let applied = active.select(within.select(needed, sliding), zero);
         slid = active & limit.lt(friction_impulse + needed);
         a.apply_positional_impulse(t.scale(applied), ra);

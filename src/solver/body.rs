@@ -23,9 +23,8 @@ impl SymMat3 {
         let r = Mat3::from_quat(rotation);
         let (c0, c1, c2) = (r.x_axis, r.y_axis, r.z_axis);
         // entry (i, j) = sum_k r_ik d_k r_jk, with r_ik = column k's component i
-        let e = |i: usize, j: usize| {
-            c0[i] * d.x * c0[j] + c1[i] * d.y * c1[j] + c2[i] * d.z * c2[j]
-        };
+        let e =
+            |i: usize, j: usize| c0[i] * d.x * c0[j] + c1[i] * d.y * c1[j] + c2[i] * d.z * c2[j];
         SymMat3 {
             xx: e(0, 0),
             yy: e(1, 1),

@@ -119,8 +119,8 @@ impl Colouring {
             self.colour_of.push(colour as u32);
             self.counts[colour] += 1;
         }
-        colours.overflow = (order == Order::Greedy && self.counts.len() == MAX_COLOURS)
-            .then_some(MAX_COLOURS - 1);
+        colours.overflow =
+            (order == Order::Greedy && self.counts.len() == MAX_COLOURS).then_some(MAX_COLOURS - 1);
         colours.starts.clear();
         colours.starts.push(0);
         let mut total = 0;
@@ -151,7 +151,14 @@ mod tests {
         let mut rows: Vec<(u32, u32)> = vec![(5, 0), (0, 1), (1, 2), (2, 3), (3, 4), (5, 4)];
         let (mut scratch, mut colours) = (Vec::new(), Colours::default());
         let order = Order::Greedy;
-        Colouring::default().colour(order, &mut rows, &mut scratch, &mut colours, &movable, |r| *r);
+        Colouring::default().colour(
+            order,
+            &mut rows,
+            &mut scratch,
+            &mut colours,
+            &movable,
+            |r| *r,
+        );
         for (_, range) in colours.ranges() {
             let mut seen = [false; 6];
             for &(a, b) in &rows[range] {
@@ -173,7 +180,14 @@ mod tests {
         let mut rows: Vec<(u32, u32)> = (0..100).map(|i| (100, i)).collect();
         let (mut scratch, mut colours) = (Vec::new(), Colours::default());
         let order = Order::Greedy;
-        Colouring::default().colour(order, &mut rows, &mut scratch, &mut colours, &movable, |r| *r);
+        Colouring::default().colour(
+            order,
+            &mut rows,
+            &mut scratch,
+            &mut colours,
+            &movable,
+            |r| *r,
+        );
         let overflow = colours.starts[MAX_COLOURS] - colours.starts[MAX_COLOURS - 1];
         assert_eq!(overflow, 100 - (MAX_COLOURS as u32 - 1));
         assert!(colours.is_overflow(MAX_COLOURS - 1));
@@ -188,17 +202,33 @@ mod tests {
         let mut rows = stored.clone();
         let (mut scratch, mut colours) = (Vec::new(), Colours::default());
         let order = Order::Kept;
-        Colouring::default().colour(order, &mut rows, &mut scratch, &mut colours, &movable, |r| *r);
+        Colouring::default().colour(
+            order,
+            &mut rows,
+            &mut scratch,
+            &mut colours,
+            &movable,
+            |r| *r,
+        );
         let position = |r: (u32, u32)| rows.iter().position(|x| *x == r).unwrap();
         for (i, x) in stored.iter().enumerate() {
             for y in &stored[i + 1..] {
-                let shares = [x.0, x.1].iter().any(|b| movable[*b as usize] && (*b == y.0 || *b == y.1));
+                let shares = [x.0, x.1]
+                    .iter()
+                    .any(|b| movable[*b as usize] && (*b == y.0 || *b == y.1));
                 if shares {
-                    assert!(position(*x) < position(*y), "{x:?} must stay before {y:?}: {rows:?}");
+                    assert!(
+                        position(*x) < position(*y),
+                        "{x:?} must stay before {y:?}: {rows:?}"
+                    );
                 }
             }
         }
-        assert_eq!(colours.count(), 3, "two chains of three share three colours: {rows:?}");
+        assert_eq!(
+            colours.count(),
+            3,
+            "two chains of three share three colours: {rows:?}"
+        );
         assert_eq!(colours.overflow, None);
     }
 }

@@ -50,7 +50,10 @@ pub trait Lane:
     #[inline(always)]
     fn recip_or_zero(self) -> Self {
         let positive = self.gt(Self::zero());
-        positive.select(Self::splat(1.0) / self.max(Self::splat(f32::MIN_POSITIVE)), Self::zero())
+        positive.select(
+            Self::splat(1.0) / self.max(Self::splat(f32::MIN_POSITIVE)),
+            Self::zero(),
+        )
     }
 }
 
@@ -282,7 +285,12 @@ impl<L: Lane> Q<L> {
     }
     #[inline(always)]
     pub fn lane(&self, i: usize) -> Quat {
-        Quat::from_xyzw(self.x.lane(i), self.y.lane(i), self.z.lane(i), self.w.lane(i))
+        Quat::from_xyzw(
+            self.x.lane(i),
+            self.y.lane(i),
+            self.z.lane(i),
+            self.w.lane(i),
+        )
     }
     #[inline(always)]
     pub fn xyz(self) -> V3<L> {

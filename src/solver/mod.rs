@@ -209,7 +209,13 @@ impl Solver {
     }
 
     /// Step 3: one substep of `h`.
-    fn substep(&mut self, settings: &Settings, h: f32, bodies: &mut [Body], contacts: &mut Contacts) {
+    fn substep(
+        &mut self,
+        settings: &Settings,
+        h: f32,
+        bodies: &mut [Body],
+        contacts: &mut Contacts,
+    ) {
         let parallel = rayon::current_num_threads() > 1;
         // 3.1-3.2 velocities, then the preview poses into the hot array
         self.bodies.resize(bodies.len(), SolverBody::default());
@@ -233,15 +239,33 @@ impl Solver {
         let shared = SharedBodies::new(&mut self.bodies);
         let kind = settings.solver;
         for _ in 0..settings.iterations {
-            solve_colours(&mut self.rods, &self.rod_colours, shared, kind, parallel, |row, a, b| {
-                row.solve(a, b)
-            }, crate::constraint::rod_lanes::solve_batch);
-            solve_colours(&mut self.joints, &self.joint_colours, shared, kind, parallel, |row, a, b| {
-                row.solve(a, b)
-            }, crate::constraint::ball_socket_lanes::solve_batch);
-            solve_colours(&mut contacts.points, &self.contact_colours, shared, kind, parallel, |p, a, b| {
-                p.solve(a, b)
-            }, crate::contact::lanes::solve_batch);
+            solve_colours(
+                &mut self.rods,
+                &self.rod_colours,
+                shared,
+                kind,
+                parallel,
+                |row, a, b| row.solve(a, b),
+                crate::constraint::rod_lanes::solve_batch,
+            );
+            solve_colours(
+                &mut self.joints,
+                &self.joint_colours,
+                shared,
+                kind,
+                parallel,
+                |row, a, b| row.solve(a, b),
+                crate::constraint::ball_socket_lanes::solve_batch,
+            );
+            solve_colours(
+                &mut contacts.points,
+                &self.contact_colours,
+                shared,
+                kind,
+                parallel,
+                |p, a, b| p.solve(a, b),
+                crate::contact::lanes::solve_batch,
+            );
         }
         // 3.4 velocities from the corrected previews; commit the poses
         let commit = |(body, hot): (&mut Body, &SolverBody)| commit_pose(body, hot, h);
@@ -318,8 +342,10 @@ fn solve_colours<T: Send>(
                 unsafe { bodies.with_pair(a, b, |a, b| one(row, a, b)) };
             }
         } else if parallel && rows.len() >= PARALLEL_MIN_ROWS {
-            let chunk = (rows.len() / rayon::current_num_threads()).div_ceil(SIMD_WIDTH) * SIMD_WIDTH;
-            rows.par_chunks_mut(chunk.max(SIMD_WIDTH)).for_each(solve_chunk);
+            let chunk =
+                (rows.len() / rayon::current_num_threads()).div_ceil(SIMD_WIDTH) * SIMD_WIDTH;
+            rows.par_chunks_mut(chunk.max(SIMD_WIDTH))
+                .for_each(solve_chunk);
         } else {
             solve_chunk(rows);
         }
