@@ -47,7 +47,8 @@ pub fn solve_lanes<L: Lane>(rows: &mut [ContactPoint], bodies: SharedBodies) {
     // 1. non-penetration
     let ra = a.orientation.rotate(local_a);
     let rb = b.orientation.rotate(local_b);
-    let separation = ((b.position + rb) - (a.position + ra)).dot(n);
+    let allowed = L::from_fn(|i| rows[i].allowed_penetration);
+    let separation = ((b.position + rb) - (a.position + ra)).dot(n) + allowed;
     let w = a.positional_inverse_mass(ra, n) + b.positional_inverse_mass(rb, n);
     let active = w.gt(zero) & (separation.lt(zero) | normal_impulse.gt(zero));
     let total = (normal_impulse - separation / w.max(L::splat(f32::MIN_POSITIVE))).max(zero);

@@ -641,6 +641,7 @@ impl Scene {
             max_angular_speed: d.max_angular_speed,
             contacts: d.contacts,
             contact_margin: d.contact_margin,
+            contact_push_speed: crate::solver::DEFAULT_CONTACT_PUSH_SPEED,
             linear_damping: d.damping[0],
             angular_damping: d.damping[1],
         });

@@ -99,6 +99,8 @@ pub struct Settings {
     pub contacts: bool,
     /// Contact points are made this far (m) before the surfaces touch.
     pub contact_margin: f32,
+    /// Deep overlap is pushed out no faster than this (m/s); infinity pushes it out at once.
+    pub contact_push_speed: f32,
     /// Velocity damping rates (1/s): each substep `v /= 1 + h c`. Zero (the default) in the
     /// paper's scenes; a game scene may use a little to let piles come to rest.
     pub linear_damping: f32,
@@ -117,11 +119,15 @@ impl Default for Settings {
             max_angular_speed: DEFAULT_MAX_ANGULAR_SPEED,
             contacts: false,
             contact_margin: 0.02,
+            contact_push_speed: DEFAULT_CONTACT_PUSH_SPEED,
             linear_damping: 0.0,
             angular_damping: 0.0,
         }
     }
 }
+
+/// Default limit on the speed at which deep overlap is pushed out (m/s), Box2D v3's default.
+pub const DEFAULT_CONTACT_PUSH_SPEED: f32 = 3.0;
 
 /// Default explosion bound on linear speed (m/s): well above anything a falling ragdoll or a
 /// thrown prop reaches in our scenes (a 50 m/s projectile is the fastest).
@@ -234,7 +240,7 @@ impl Solver {
         for row in &mut self.joints {
             row.begin_substep(bodies);
         }
-        contacts.begin_substep();
+        contacts.begin_substep(bodies, h, settings.contact_push_speed);
         // 3.3 fixed iterations, kind by kind, colour by colour
         let shared = SharedBodies::new(&mut self.bodies);
         let kind = settings.solver;
@@ -458,6 +464,10 @@ pub fn gyroscopic_update(body: &Body, dt: f32) -> Vec3 {
         }
         current = next;
         last_change = change;
+        // converged to rounding: at small steps one or two passes are enough
+        if change <= 1e-6 * current.length() {
+            break;
+        }
     }
     q * current
 }
