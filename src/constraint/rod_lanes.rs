@@ -1,9 +1,60 @@
-//! PLACEHOLDER: RodRow rows W at a time. Solves lane by lane with the scalar kernel until the
-//! branch-free SIMD kernel lands.
+//! [`RodRow`]s W at a time (paper §7: the rod "as branch-free SIMD code, solving four
+//! constraints at once").
+//!
+//! [`solve_lanes`] is [`RodRow::solve`] with one rod per lane, for the default modes
+//! ([`TwistMode::Exact`], [`LengthCorrection::Offset`]): soft bend (eq. 11), soft twist (eq.
+//! 12-13, the exact parallel-transport twist), hard curve (eq. 6, full gradient) and hard length
+//! (eq. 9, along the offset), in one function and in the scalar order, each part reading the
+//! frames the previous part left. Every branch of the scalar code is a mask:
+//!
+//! - bend only where `alpha_b > 0` and `psi > 1e-7`; its axis `(t_a x t_b)^`, else
+//!   `any_perpendicular(t_a)`;
+//! - twist only where `alpha_t > 0`; `Quat::from_rotation_arc` with glam's two singular cases
+//!   (identity for `t_a . t_b > 1 - 2 eps`, a half turn about `any_perpendicular(t_a)` below
+//!   `-(1 - 2 eps)`); `twist_angle` wrapped to [-pi, pi];
+//! - `relative_rotation` only where the turn is at least 1e-9 rad and `w > 0`;
+//! - curve: `o^` falls back to `t_a` where `|o| <= 1e-12`, `n` to `any_perpendicular(t_b)` where
+//!   `sin <= 1e-12`, `g_o = 0` where `|o| <= 1e-6`; corrected only where `C > 1e-7` and `w > 0`;
+//! - length: `chord_ratio`'s series where `|psi| < 1e-2`; `o^` falls back to `t_a`; corrected
+//!   only where `|C| > 1e-9` and `w > 0`;
+//! - a body of zero inverse mass is not turned (as [`SolverBody::apply_angular_impulse`]), and
+//!   is never written back.
+//!
+//! A lane whose guard fails keeps its pose bit for bit, like the scalar code's early return.
+//! The lanes differ from the scalar code only by rounding (and `wide`'s polynomial `atan2`,
+//! `sin`, `cos`): `tests/lanes_rod.rs` measures the agreement.
+//!
+//! [`solve_batch`] (the solver's [`crate::solver::BatchKernel`] for rods) runs this kernel on
+//! `wide::f32x4` (or `f32x8` for a batch of 8) when every row uses the default modes; a batch
+//! with any other mode ([`TwistMode::Paper`], [`LengthCorrection::Gradient`]) or of another
+//! size falls back to the scalar [`RodRow::solve`] row by row, so results stay those of the
+//! scalar reference up to rounding whatever the modes.
+//!
+//! [`SolverBody::apply_angular_impulse`]: crate::solver::body::SolverBody::apply_angular_impulse
 
+use super::rod::{LengthCorrection, RodRow, TwistMode};
 use crate::solver::body::SharedBodies;
+use crate::solver::lanes::{BodyLanes, Lane, Q, V3};
 
-pub fn solve_batch(rows: &mut [super::RodRow], bodies: SharedBodies) {
+/// Solves a batch of rows that share no movable body: W = 4 or 8 lanes when every row uses the
+/// default modes, else the scalar kernel row by row (see the module docs).
+pub fn solve_batch(rows: &mut [RodRow], bodies: SharedBodies) {
+    let lanes = rows.iter().all(is_default_modes);
+    match rows.len() {
+        4 if lanes => solve_lanes::<wide::f32x4>(rows, bodies),
+        8 if lanes => solve_lanes::<wide::f32x8>(rows, bodies),
+        _ => solve_scalar(rows, bodies),
+    }
+}
+
+/// Whether the lane kernel covers this row's modes.
+#[inline(always)]
+pub fn is_default_modes(row: &RodRow) -> bool {
+    row.twist_mode == TwistMode::Exact && row.length_correction == LengthCorrection::Offset
+}
+
+/// The scalar [`RodRow::solve`] one row after another.
+pub fn solve_scalar(rows: &mut [RodRow], bodies: SharedBodies) {
     for row in rows {
         let (a, b) = crate::solver::RowBodies::bodies(row);
         // SAFETY: the batch's rows share no movable body.
@@ -11,10 +62,264 @@ pub fn solve_batch(rows: &mut [super::RodRow], bodies: SharedBodies) {
     }
 }
 
-/// PLACEHOLDER: `L::W` rows, lane by lane.
-pub fn solve_lanes<L: crate::solver::lanes::Lane>(
-    rows: &mut [super::RodRow],
-    bodies: SharedBodies,
+/// Exactly `L::W` rows, all in the default modes, sharing no movable body: gathered into lanes,
+/// solved by [`solve_rod_lanes`], scattered back.
+pub fn solve_lanes<L: Lane>(rows: &mut [RodRow], bodies: SharedBodies) {
+    assert_eq!(rows.len(), L::W, "a lane batch is exactly W rows");
+    debug_assert!(rows.iter().all(is_default_modes));
+    let mut index_a = [0u32; 8];
+    let mut index_b = [0u32; 8];
+    for (i, row) in rows.iter().enumerate() {
+        index_a[i] = row.body_a;
+        index_b[i] = row.body_b;
+    }
+    let (index_a, index_b) = (&index_a[..L::W], &index_b[..L::W]);
+    let lanes = RodLanes::gather(rows);
+    // SAFETY: the rows of a batch share no movable body, and no other thread touches them
+    // (the caller's colouring); immovable bodies are only read.
+    unsafe {
+        let mut a = BodyLanes::<L>::gather(bodies, index_a);
+        let mut b = BodyLanes::<L>::gather(bodies, index_b);
+        solve_rod_lanes(&lanes, &mut a, &mut b);
+        a.scatter(bodies, index_a);
+        b.scatter(bodies, index_b);
+    }
+}
+
+/// The rows' constants, one rod per lane.
+#[derive(Clone, Copy, Debug)]
+pub struct RodLanes<L> {
+    pub frame_a: Q<L>,
+    pub frame_b: Q<L>,
+    pub rest_length: L,
+    pub alpha_bend: L,
+    pub alpha_twist: L,
+}
+
+impl<L: Lane> RodLanes<L> {
+    pub fn gather(rows: &[RodRow]) -> Self {
+        RodLanes {
+            frame_a: Q::from_fn(|i| rows[i].frame_a),
+            frame_b: Q::from_fn(|i| rows[i].frame_b),
+            rest_length: L::from_fn(|i| rows[i].rest_length),
+            alpha_bend: L::from_fn(|i| rows[i].alpha_bend),
+            alpha_twist: L::from_fn(|i| rows[i].alpha_twist),
+        }
+    }
+}
+
+/// [`RodRow::solve`] per lane (default modes): bend, twist, curve, length.
+#[inline(always)]
+pub fn solve_rod_lanes<L: Lane>(row: &RodLanes<L>, a: &mut BodyLanes<L>, b: &mut BodyLanes<L>) {
+    let zero = L::zero();
+    let movable_a = a.inverse_mass.gt(zero);
+    let movable_b = b.inverse_mass.gt(zero);
+
+    // Soft bend (eq. 11): remove alpha_b of psi about t_a x t_b.
+    let (ta, tb) = tangents(row, a, b);
+    let cross = ta.cross(tb);
+    let psi = cross.length().atan2(ta.dot(tb));
+    let (axis, _) = cross.normalize_or(ta.any_orthonormal(), TRY_NORMALIZE_EPS);
+    let bend = row.alpha_bend.gt(zero) & psi.gt(L::splat(1e-7));
+    relative_rotation(a, b, movable_a, movable_b, bend, axis.scale(-row.alpha_bend * psi));
+
+    // Soft twist (eq. 12-13): remove alpha_t of tau about t_b.
+    let (fa, fb) = (a.orientation.mul(row.frame_a), b.orientation.mul(row.frame_b));
+    let (ta, tb) = (fa.x_axis(), fb.x_axis());
+    let tau = twist_exact(fa, fb, ta, tb);
+    let twist = row.alpha_twist.gt(zero);
+    relative_rotation(a, b, movable_a, movable_b, twist, tb.scale(-row.alpha_twist * tau));
+
+    // Hard curve (eq. 6), full gradient.
+    let (ta, tb) = tangents(row, a, b);
+    let curve = curve_projection(a.position, ta, b.position, tb);
+    let w = (a.inverse_mass + b.inverse_mass) * curve.g_o.length_squared()
+        + a.angular_inverse_mass(curve.theta_a)
+        + b.angular_inverse_mass(curve.theta_b);
+    let active = curve.error.gt(L::splat(1e-7)) & w.gt(zero);
+    let lambda = active.select(-curve.error / w.max(L::splat(f32::MIN_POSITIVE)), zero);
+    // p_a = -g_o, p_b = g_o
+    move_by(a, active, curve.g_o.scale(-lambda));
+    move_by(b, active, curve.g_o.scale(lambda));
+    turn(a, movable_a & active, curve.theta_a.scale(lambda));
+    turn(b, movable_b & active, curve.theta_b.scale(lambda));
+
+    // Hard length (eq. 9), linear motion along o^ at fixed psi.
+    let (ta, tb) = tangents(row, a, b);
+    let offset = b.position - a.position;
+    let (axis, distance) = offset.normalize_or(ta, TRY_NORMALIZE_EPS);
+    let psi = ta.cross(tb).length().atan2(ta.dot(tb));
+    let c = distance - row.rest_length * chord_ratio(psi);
+    let w = a.inverse_mass + b.inverse_mass;
+    let active = c.abs().gt(L::splat(1e-9)) & w.gt(zero);
+    let lambda = active.select(c / w.max(L::splat(f32::MIN_POSITIVE)), zero);
+    move_by(a, active, axis.scale(lambda));
+    move_by(b, active, axis.scale(-lambda));
+}
+
+/// Lengths at or below this fail glam's `try_normalize` (its reciprocal is not finite).
+const TRY_NORMALIZE_EPS: f32 = 1.0 / f32::MAX;
+
+/// The body tangents `t_a = q_a F_a x`, `t_b = q_b F_b x`.
+#[inline(always)]
+fn tangents<L: Lane>(row: &RodLanes<L>, a: &BodyLanes<L>, b: &BodyLanes<L>) -> (V3<L>, V3<L>) {
+    (
+        a.orientation.mul(row.frame_a).x_axis(),
+        b.orientation.mul(row.frame_b).x_axis(),
+    )
+}
+
+/// Mask negation.
+#[inline(always)]
+fn not<L: Lane>(mask: L) -> L {
+    mask.select(L::zero(), L::splat(f32::from_bits(u32::MAX)))
+}
+
+#[inline(always)]
+fn q_select<L: Lane>(mask: L, t: Q<L>, f: Q<L>) -> Q<L> {
+    Q {
+        x: mask.select(t.x, f.x),
+        y: mask.select(t.y, f.y),
+        z: mask.select(t.z, f.z),
+        w: mask.select(t.w, f.w),
+    }
+}
+
+/// `apply_linear_impulse` where `mask` is set, as a displacement `impulse` (before the inverse
+/// mass); other lanes keep their position bit for bit.
+#[inline(always)]
+fn move_by<L: Lane>(body: &mut BodyLanes<L>, mask: L, impulse: V3<L>) {
+    let moved = body.position + impulse.scale(body.inverse_mass);
+    body.position = V3::select(mask, moved, body.position);
+}
+
+/// `apply_angular_impulse` where `mask` is set; other lanes keep their orientation and
+/// correction bit for bit (the scalar code returns early for them).
+#[inline(always)]
+fn turn<L: Lane>(body: &mut BodyLanes<L>, mask: L, l: V3<L>) {
+    let correction = body.rotation_correction + body.inverse_inertia.mul_vec(l);
+    let orientation = body.predicted.rotate_by_small(correction);
+    body.rotation_correction = V3::select(mask, correction, body.rotation_correction);
+    body.orientation = q_select(mask, orientation, body.orientation);
+}
+
+/// [`super::parts::relative_rotation`] where `active` is set: turns b by `rotation_b`
+/// relative to a, shared by their inertia about the axis.
+#[inline(always)]
+fn relative_rotation<L: Lane>(
+    a: &mut BodyLanes<L>,
+    b: &mut BodyLanes<L>,
+    movable_a: L,
+    movable_b: L,
+    active: L,
+    rotation_b: V3<L>,
 ) {
-    solve_batch(rows, bodies)
+    let angle = rotation_b.length();
+    let n = rotation_b.scale(L::splat(1.0) / angle.max(L::splat(1e-9)));
+    let w = a.angular_inverse_mass(n) + b.angular_inverse_mass(n);
+    let active = active & not(angle.lt(L::splat(1e-9))) & w.gt(L::zero());
+    let l = n.scale(angle / w.max(L::splat(f32::MIN_POSITIVE)));
+    turn(a, movable_a & active, -l);
+    turn(b, movable_b & active, l);
+}
+
+/// [`super::rod::chord_ratio`]: `2 sin(psi/2) / psi`, its series where `|psi| < 1e-2`.
+#[inline(always)]
+pub fn chord_ratio<L: Lane>(psi: L) -> L {
+    let small = psi.abs().lt(L::splat(1e-2));
+    let p2 = psi * psi;
+    let series = L::splat(1.0) - p2 / L::splat(24.0) + p2 * p2 / L::splat(1920.0);
+    let (sin, _) = (L::splat(0.5) * psi).sin_cos();
+    let safe = small.select(L::splat(1.0), psi);
+    small.select(series, L::splat(2.0) * sin / safe)
+}
+
+/// [`super::rod::twist_exact`] given the frames and their tangents: the signed turn about x
+/// between `F(1)` and `F(0)` carried by `Quat::from_rotation_arc(t_a, t_b)`.
+#[inline(always)]
+pub fn twist_exact<L: Lane>(fa: Q<L>, fb: Q<L>, ta: V3<L>, tb: V3<L>) -> L {
+    let transport = rotation_arc(ta, tb);
+    let q = transport.mul(fa).conjugate().mul(fb);
+    wrap_angle(L::splat(2.0) * q.x.atan2(q.w))
+}
+
+/// glam's `Quat::from_rotation_arc` for unit `from`, `to`, its singular cases as selects.
+#[inline(always)]
+pub fn rotation_arc<L: Lane>(from: V3<L>, to: V3<L>) -> Q<L> {
+    const ONE_MINUS_EPS: f32 = 1.0 - 2.0 * f32::EPSILON;
+    let dot = from.dot(to);
+    let c = from.cross(to);
+    let w = L::splat(1.0) + dot;
+    let norm = (c.length_squared() + w * w).sqrt().max(L::splat(f32::MIN_POSITIVE));
+    let inv = L::splat(1.0) / norm;
+    let general = Q {
+        x: c.x * inv,
+        y: c.y * inv,
+        z: c.z * inv,
+        w: w * inv,
+    };
+    // from_axis_angle(any_orthonormal(from), pi): sin(pi/2) = 1, cos(pi/2) in f32
+    let perpendicular = from.any_orthonormal();
+    let half_turn = Q {
+        x: perpendicular.x,
+        y: perpendicular.y,
+        z: perpendicular.z,
+        w: L::splat((0.5 * std::f32::consts::PI).cos()),
+    };
+    let identity = Q {
+        x: L::zero(),
+        y: L::zero(),
+        z: L::zero(),
+        w: L::splat(1.0),
+    };
+    let opposite = dot.lt(L::splat(-ONE_MINUS_EPS));
+    let same = dot.gt(L::splat(ONE_MINUS_EPS));
+    q_select(same, identity, q_select(opposite, half_turn, general))
+}
+
+/// [`crate::math::wrap_angle`] for angles in [-2 pi, 2 pi] (what `2 atan2` gives).
+#[inline(always)]
+fn wrap_angle<L: Lane>(a: L) -> L {
+    use std::f32::consts::{PI, TAU};
+    let a = a.gt(L::splat(PI)).select(a - L::splat(TAU), a);
+    a.lt(L::splat(-PI)).select(a + L::splat(TAU), a)
+}
+
+/// [`super::rod::curve_projection`] per lane: the error and the parts of its gradient
+/// (`p_a = -g_o`, `p_b = g_o`, `theta_a = S n`, `theta_b = -n`).
+#[derive(Clone, Copy, Debug)]
+pub struct CurveLanes<L> {
+    pub error: L,
+    pub g_o: V3<L>,
+    pub theta_a: V3<L>,
+    pub theta_b: V3<L>,
+}
+
+#[inline(always)]
+pub fn curve_projection<L: Lane>(pa: V3<L>, ta: V3<L>, pb: V3<L>, tb: V3<L>) -> CurveLanes<L> {
+    let offset = pb - pa;
+    let distance = offset.length();
+    let far = distance.gt(L::splat(1e-12));
+    let o = V3::select(far, offset.scale(L::splat(1.0) / distance.max(L::splat(1e-12))), ta);
+    let two = L::splat(2.0);
+    let reflect = |v: V3<L>| o.scale(two * v.dot(o)) - v;
+    let r = reflect(ta);
+    let cross = tb.cross(r);
+    let sin = cross.length();
+    let error = sin.atan2(tb.dot(r));
+    let n = V3::select(
+        sin.gt(L::splat(1e-12)),
+        cross.scale(L::splat(1.0) / sin.max(L::splat(1e-12))),
+        tb.any_orthonormal(),
+    );
+    let m = n.cross(r);
+    let v = m.scale(ta.dot(o)) + ta.scale(m.dot(o));
+    let g = (v - o.scale(v.dot(o))).scale(two / distance.max(L::splat(1e-6)));
+    let g_o = V3::select(distance.gt(L::splat(1e-6)), g, V3::zero());
+    CurveLanes {
+        error,
+        g_o,
+        theta_a: reflect(n),
+        theta_b: -n,
+    }
 }
