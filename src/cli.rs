@@ -31,7 +31,8 @@ pub struct Cli {
 
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// The main job: every scene in a folder -> <out>/<scene>.rrd, plus a residual summary.
+    /// The main job: every scene in a folder -> <out>/<scene>.rrd, plus a residual summary
+    /// (a scene with `ci_frames` runs that many frames, unless --frames).
     All {
         #[arg(long, default_value = "scenes")]
         scenes: PathBuf,
@@ -645,7 +646,16 @@ fn run_all(scenes_dir: &Path, out_dir: &Path, overrides: &Overrides) -> anyhow::
     );
     let mut failures = Vec::new();
     for path in &paths {
-        let result = load_scene(path, overrides).and_then(|scene| {
+        let result = load_scene(path, overrides).and_then(|mut scene| {
+            // heavy scenes give the main job a shorter run (`ci_frames`), unless --frames
+            if let (None, Some(n)) = (overrides.frames, scene.def.ci_frames) {
+                println!(
+                    "{}: main job runs {n} of its {} frames (ci_frames; `rodlab run` runs all)",
+                    scene.name(),
+                    scene.def.frames
+                );
+                scene.def.frames = n;
+            }
             let mut reports = Vec::new();
             for variant in variants(&scene, overrides) {
                 let name = variant.name();

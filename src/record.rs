@@ -453,9 +453,13 @@ impl Recorder {
                 )?;
             }
         }
-        self.log_rods(world, metrics)?;
+        if self.options.rods {
+            self.log_rods(world, metrics)?;
+        }
         self.log_contacts(world, metrics)?;
-        self.log_bones(world, metrics)?;
+        if self.options.bones {
+            self.log_bones(world, metrics)?;
+        }
         if self.options.energy {
             let rec = &self.rec;
             rec.log(

@@ -209,3 +209,149 @@ fn a_rod_between_coincident_centres_is_refused() {
         .to_string();
     assert!(e.contains("rod[0].b") && e.contains("coincide"), "{e}");
 }
+
+/// A scene with one `[[tile]]` group, for the tile errors.
+const TILED: &str = r#"
+frames = 10
+ci_frames = 5
+
+[[body]]
+name = "floor"
+kind = "fixed"
+shape = "plane"
+
+[[tile]]
+name = "stairs"
+repeat = [3, 2]
+spacing = [2.0, 4.0]
+[[tile.body]]
+name = "step"
+kind = "fixed"
+shape = "box"
+half_extents = [0.5, 0.1, 0.2]
+position = [1.0, 0.1, 0.0]
+[[tile.body]]
+name = "wall"
+kind = "fixed"
+shape = "box"
+half_extents = [0.5, 0.3, 0.05]
+position = [1.0, 0.3, 1.0]
+"#;
+
+fn tiled_error(from: &str, to: &str) -> String {
+    assert!(TILED.contains(from), "test setup: {from:?} not in scene");
+    let text = TILED.replacen(from, to, 1);
+    Scene::parse("scenes/t.toml", &text)
+        .and_then(|s| s.build().map(|_| ()))
+        .expect_err("must fail")
+        .to_string()
+}
+
+fn tiled_line(needle: &str) -> usize {
+    TILED.lines().position(|l| l.contains(needle)).unwrap() + 1
+}
+
+#[test]
+fn a_tile_is_copied_over_its_grid() {
+    let scene = Scene::parse("scenes/t.toml", TILED).unwrap();
+    assert_eq!(scene.def.ci_frames, Some(5));
+    let world = scene.build().unwrap();
+    assert_eq!(world.bodies.len(), 1 + 2 * 3 * 2);
+    let corner = world.body(world.find_body("stairs_2_1_wall").unwrap());
+    assert_eq!(corner.position.to_array(), [5.0, 0.3, 5.0]);
+    let first = world.body(world.find_body("stairs_0_0_step").unwrap());
+    assert_eq!(first.position.to_array(), [1.0, 0.1, 0.0]);
+}
+
+#[test]
+fn zero_copies_in_a_tile() {
+    let e = tiled_error("repeat = [3, 2]", "repeat = [3, 0]");
+    let line = tiled_line("repeat =");
+    assert!(
+        e.starts_with(&format!("scenes/t.toml:{line}: tile[0].repeat: ")),
+        "{e}"
+    );
+    assert!(e.contains("at least 1"), "{e}");
+}
+
+#[test]
+fn negative_copies_in_a_tile_is_a_type_error() {
+    let e = tiled_error("repeat = [3, 2]", "repeat = [-3, 2]");
+    let line = tiled_line("repeat =");
+    assert!(
+        e.starts_with(&format!("scenes/t.toml:{line}: tile[0].repeat")),
+        "{e}"
+    );
+}
+
+#[test]
+fn non_positive_tile_spacing() {
+    let e = tiled_error("spacing = [2.0, 4.0]", "spacing = [2.0, 0.0]");
+    let line = tiled_line("spacing =");
+    assert!(
+        e.starts_with(&format!("scenes/t.toml:{line}: tile[0].spacing: ")),
+        "{e}"
+    );
+    assert!(e.contains("positive"), "{e}");
+}
+
+#[test]
+fn a_tile_copies_fixed_bodies_only() {
+    let e = tiled_error(
+        "name = \"wall\"\nkind = \"fixed\"",
+        "name = \"wall\"\nkind = \"dynamic\"",
+    );
+    let line = tiled_line("name = \"wall\"") + 1;
+    assert!(
+        e.starts_with(&format!("scenes/t.toml:{line}: tile[0].body[1].kind: ")),
+        "{e}"
+    );
+    assert!(e.contains("fixed"), "{e}");
+}
+
+#[test]
+fn a_bad_body_in_a_tile_names_its_field() {
+    let e = tiled_error(
+        "half_extents = [0.5, 0.3, 0.05]",
+        "half_extents = [0.5, -0.3, 0.05]",
+    );
+    let line = tiled_line("half_extents = [0.5, 0.3, 0.05]");
+    assert!(
+        e.starts_with(&format!(
+            "scenes/t.toml:{line}: tile[0].body[1].half_extents: "
+        )),
+        "{e}"
+    );
+}
+
+#[test]
+fn duplicate_body_names_in_a_tile() {
+    let e = tiled_error("name = \"wall\"", "name = \"step\"");
+    let line = tiled_line("name = \"wall\"");
+    assert!(
+        e.starts_with(&format!("scenes/t.toml:{line}: tile[0].body[1].name: ")),
+        "{e}"
+    );
+    assert!(e.contains("duplicate"), "{e}");
+}
+
+#[test]
+fn tile_copies_clashing_with_a_body() {
+    let e = tiled_error("name = \"floor\"", "name = \"stairs_0_0_step\"");
+    let line = tiled_line("name = \"step\"");
+    assert!(
+        e.starts_with(&format!("scenes/t.toml:{line}: tile[0].body[0].name: ")),
+        "{e}"
+    );
+}
+
+#[test]
+fn ci_frames_beyond_frames() {
+    let e = tiled_error("ci_frames = 5", "ci_frames = 50");
+    let line = tiled_line("ci_frames =");
+    assert!(
+        e.starts_with(&format!("scenes/t.toml:{line}: ci_frames: ")),
+        "{e}"
+    );
+    assert!(e.contains("[1, frames = 10]"), "{e}");
+}

@@ -32,6 +32,9 @@ pub struct SceneDef {
     pub iterations: u32,
     #[serde(default = "default_frames")]
     pub frames: u32,
+    /// Frames the main job (`rodlab`, `rodlab all`) runs instead of `frames`, for scenes too
+    /// heavy to run in full there; `--frames` overrides both.
+    pub ci_frames: Option<u32>,
     #[serde(default = "default_gravity")]
     pub gravity: [f32; 3],
     /// Default solver flavour of every ball-and-socket joint.
@@ -48,6 +51,9 @@ pub struct SceneDef {
     pub ragdoll: Vec<RagdollDef>,
     #[serde(default)]
     pub body: Vec<BodyDef>,
+    /// Groups of fixed bodies copied over a grid (expanded into `body` entries when loaded).
+    #[serde(default)]
+    pub tile: Vec<TileDef>,
     #[serde(default)]
     pub joint: Vec<JointDef>,
     /// Linear and angular velocity damping rates (1/s); zero by default.
@@ -145,6 +151,46 @@ impl DropDef {
                 }
             })
             .collect()
+    }
+}
+
+/// A group of fixed bodies copied over a grid in x and z: copy `(i, k)`, for `i` in
+/// `0..repeat[0]` and `k` in `0..repeat[1]`, moves every body of the group by
+/// `[i * spacing[0], 0, k * spacing[1]]` and names it `<tile>_<i>_<k>_<body>`. Expanded into
+/// `[[body]]` entries when the scene is loaded, after the group itself was checked.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TileDef {
+    pub name: String,
+    /// Copies along x and along z (each >= 1).
+    pub repeat: [u32; 2],
+    /// Distance between copies along x and along z (m, > 0).
+    pub spacing: [f32; 2],
+    /// The group: fixed boxes, spheres or capsules, positioned as for copy (0, 0).
+    pub body: Vec<BodyDef>,
+}
+
+impl TileDef {
+    /// Name of copy `(i, k)` of the group's body `body`.
+    fn copy_name(&self, i: u32, k: u32, body: &str) -> String {
+        format!("{}_{i}_{k}_{body}", self.name)
+    }
+
+    /// The bodies this tile stands for.
+    fn expand(&self) -> Vec<BodyDef> {
+        let mut out = Vec::with_capacity(self.body.len() * (self.repeat[0] * self.repeat[1]) as usize);
+        for i in 0..self.repeat[0] {
+            for k in 0..self.repeat[1] {
+                for b in &self.body {
+                    let mut copy = b.clone();
+                    copy.name = self.copy_name(i, k, &b.name);
+                    copy.position[0] += i as f32 * self.spacing[0];
+                    copy.position[2] += k as f32 * self.spacing[1];
+                    out.push(copy);
+                }
+            }
+        }
+        out
     }
 }
 
@@ -247,6 +293,12 @@ pub struct RecordDef {
     /// Contact points and normals (off by default: many points a frame).
     #[serde(default)]
     pub contacts: bool,
+    /// Rod centerlines, material frames and rod scalars.
+    #[serde(default = "yes")]
+    pub rods: bool,
+    /// Animation bones and their errors, per ragdoll and mapping method.
+    #[serde(default = "yes")]
+    pub bones: bool,
 }
 
 impl Default for RecordDef {
@@ -257,6 +309,8 @@ impl Default for RecordDef {
             residuals: true,
             energy: true,
             contacts: false,
+            rods: true,
+            bones: true,
         }
     }
 }
@@ -438,11 +492,17 @@ impl Scene {
             let generated = drop.expand();
             def.ragdoll.extend(generated);
         }
-        let scene = Scene {
+        let mut scene = Scene {
             path,
             text: text.to_string(),
             def,
         };
+        // tiles are checked where they are written, then copied into `body`
+        scene
+            .check_tiles()
+            .map_err(|(p, message)| scene.error_at(&p, message))?;
+        let copies: Vec<BodyDef> = scene.def.tile.iter().flat_map(TileDef::expand).collect();
+        scene.def.body.extend(copies);
         scene
             .check()
             .map_err(|(p, message)| scene.error_at(&p, message))?;
@@ -469,6 +529,73 @@ impl Scene {
         }
     }
 
+    /// The `[[tile]]` groups, before they are expanded: sizes, names, and fixed bodies only.
+    fn check_tiles(&self) -> Result<(), (Vec<Seg>, String)> {
+        let d = &self.def;
+        let at = |i: usize, field: &str| {
+            vec![Seg::Key("tile".into()), Seg::Index(i), Seg::Key(field.into())]
+        };
+        let mut tile_names: Vec<&str> = Vec::new();
+        for (i, t) in d.tile.iter().enumerate() {
+            check_name(&t.name, &tile_names).map_err(|m| (at(i, "name"), m))?;
+            tile_names.push(&t.name);
+            if t.repeat.contains(&0) {
+                return Err((
+                    at(i, "repeat"),
+                    format!("copies along x and z must be at least 1, got {:?}", t.repeat),
+                ));
+            }
+            if t.spacing.iter().any(|s| !(*s > 0.0 && s.is_finite())) {
+                return Err((
+                    at(i, "spacing"),
+                    format!("must be positive distances (m), got {:?}", t.spacing),
+                ));
+            }
+            if t.body.is_empty() {
+                return Err((at(i, "body"), "needs at least one [[tile.body]]".into()));
+            }
+            let mut names: Vec<&str> = Vec::new();
+            for (j, b) in t.body.iter().enumerate() {
+                let field = |f: &str| {
+                    vec![
+                        Seg::Key("tile".into()),
+                        Seg::Index(i),
+                        Seg::Key("body".into()),
+                        Seg::Index(j),
+                        Seg::Key(f.into()),
+                    ]
+                };
+                check_name(&b.name, &names).map_err(|m| (field("name"), m))?;
+                names.push(&b.name);
+                if b.kind != KindDef::Fixed {
+                    return Err((
+                        field("kind"),
+                        "a tile copies static geometry: kind must be \"fixed\"".into(),
+                    ));
+                }
+                if b.shape == ShapeKind::Plane {
+                    return Err((
+                        field("shape"),
+                        "a plane is unbounded: give it as one [[body]], not in a tile".into(),
+                    ));
+                }
+                check_body(b).map_err(|(f, m)| (field(f), m))?;
+                for other in &d.body {
+                    if other.name == t.copy_name(0, 0, &b.name) {
+                        return Err((
+                            field("name"),
+                            format!(
+                                "its copies are named {}_<i>_<k>_{}, and body \"{}\" already exists",
+                                t.name, b.name, other.name
+                            ),
+                        ));
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
     /// Semantic checks serde cannot express.
     fn check(&self) -> Result<(), (Vec<Seg>, String)> {
         let d = &self.def;
@@ -487,6 +614,12 @@ impl Scene {
         }
         if d.frames == 0 {
             return Err((key("frames"), "must be at least 1".into()));
+        }
+        if let Some(n) = d.ci_frames.filter(|&n| n == 0 || n > d.frames) {
+            return Err((
+                key("ci_frames"),
+                format!("must lie in [1, frames = {}], got {n}", d.frames),
+            ));
         }
         if !(d.max_speed > 0.0) {
             return Err((key("max_speed"), "must be positive".into()));
