@@ -16,7 +16,7 @@ use crate::ragdoll::SpineKind;
 use crate::record::{self, Recorder};
 use crate::scene::Scene;
 use crate::sim::{self, Observer, Overrides, RunReport};
-use crate::world::{SimulationError, World};
+use crate::world::{SimulationError, SolverKind, World};
 
 #[derive(Debug, Parser)]
 #[command(
@@ -83,6 +83,17 @@ pub struct SweepArgs {
     /// Time steps (s), comma separated; default the scene's.
     #[arg(long, value_delimiter = ',', value_parser = positive_seconds)]
     pub dt: Vec<f32>,
+    /// Substeps per frame, comma separated (each substep runs the iterations).
+    #[arg(long, value_delimiter = ',', default_value = "1",
+          value_parser = clap::value_parser!(u32).range(1..))]
+    pub substeps: Vec<u32>,
+    /// Row solvers, comma separated: scalar, simd.
+    #[arg(long, value_delimiter = ',', default_value = "scalar",
+          value_parser = parse_choice::<SolverKind>)]
+    pub solver: Vec<SolverKind>,
+    /// Worker threads of the solver; default rayon's (one per core).
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+    pub threads: Option<u64>,
     /// Frames per run; default the scene's.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     pub frames: Option<u32>,
@@ -98,9 +109,18 @@ pub struct SweepArgs {
 
 #[derive(Debug, Clone, Args)]
 pub struct OverrideArgs {
-    /// Solver iterations per frame.
+    /// Solver iterations per substep (per frame with one substep).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     pub iterations: Option<u32>,
+    /// Substeps per frame, each of dt / N with all the iterations.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    pub substeps: Option<u32>,
+    /// Row solver: scalar or simd.
+    #[arg(long, value_parser = parse_choice::<SolverKind>)]
+    pub solver: Option<SolverKind>,
+    /// Worker threads of the solver; default rayon's (one per core).
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+    pub threads: Option<u64>,
     /// Time step (s).
     #[arg(long, value_parser = positive_seconds)]
     pub dt: Option<f32>,
@@ -151,6 +171,8 @@ impl From<&OverrideArgs> for Overrides {
     fn from(a: &OverrideArgs) -> Self {
         Overrides {
             iterations: a.iterations,
+            substeps: a.substeps,
+            solver: a.solver,
             dt: a.dt,
             frames: a.frames,
             spine: a.spine,
@@ -165,6 +187,23 @@ impl From<&OverrideArgs> for Overrides {
 pub fn main() -> anyhow::Result<()> {
     let matches = Cli::command().get_matches();
     let cli = Cli::from_arg_matches(&matches)?;
+    let threads = match &cli.command {
+        Some(Command::Run { overrides, .. } | Command::All { overrides, .. }) => overrides.threads,
+        Some(Command::Sweep(args)) => args.threads,
+        _ => None,
+    };
+    match threads {
+        None => dispatch(cli, &matches),
+        Some(n) => rayon::ThreadPoolBuilder::new()
+            .num_threads(n as usize)
+            .build()
+            .context("cannot start the thread pool")?
+            .install(|| dispatch(cli, &matches)),
+    }
+}
+
+/// Runs the parsed command (inside the thread pool `--threads` asked for, if any).
+fn dispatch(cli: Cli, matches: &ArgMatches) -> anyhow::Result<()> {
     match cli.command {
         None => main_job(),
         Some(Command::Sweep(args)) => {
@@ -173,6 +212,8 @@ pub fn main() -> anyhow::Result<()> {
                 spines: args.spines,
                 joints: args.joint,
                 dts: args.dt,
+                substeps: args.substeps,
+                solvers: args.solver,
                 frames: args.frames,
                 repeats: args.repeats,
             };
@@ -336,10 +377,12 @@ fn sweep(
     let mut rows = Vec::with_capacity(combinations.len());
     for overrides in &combinations {
         progress.show(&format!(
-            "{}/{} dt={:.4} iterations={}",
+            "{}/{} {} dt={:.4} substeps={} iterations={}",
             overrides.spine.unwrap_or_default(),
             overrides.joint_flavour.unwrap_or_default(),
+            overrides.solver.unwrap_or(scene.def.solver),
             overrides.dt.unwrap_or(scene.def.dt),
+            overrides.substeps.unwrap_or(scene.def.substeps),
             overrides.iterations.unwrap_or(scene.def.iterations)
         ));
         rows.push(sweep::run_one(&scene, overrides, config.repeats)?);
@@ -349,15 +392,16 @@ fn sweep(
     }
     progress.finish();
     println!(
-        "  {:<14} {:>8} {:>5} {:>10} {:>12} {:>12} {:>10}",
-        "method", "dt", "iter", "step us", "mean disl cm", "max disl cm", "mean rad"
+        "  {:<20} {:>8} {:>4} {:>5} {:>10} {:>12} {:>12} {:>10}",
+        "method", "dt", "sub", "iter", "step us", "mean disl cm", "max disl cm", "mean rad"
     );
     for r in &rows {
         match &r.failed {
             None => println!(
-                "  {:<14} {:>8.4} {:>5} {:>10.1} {:>12.4} {:>12.4} {:>10.5}",
+                "  {:<20} {:>8.4} {:>4} {:>5} {:>10.1} {:>12.4} {:>12.4} {:>10.5}",
                 r.method,
                 r.dt,
+                r.substeps,
                 r.iterations,
                 r.step_us,
                 r.mean_dislocation_cm,
@@ -365,8 +409,8 @@ fn sweep(
                 r.mean_angular_rad
             ),
             Some(e) => println!(
-                "  {:<14} {:>8.4} {:>5} failed: {e}",
-                r.method, r.dt, r.iterations
+                "  {:<20} {:>8.4} {:>4} {:>5} failed: {e}",
+                r.method, r.dt, r.substeps, r.iterations
             ),
         }
     }
@@ -561,6 +605,7 @@ pub fn record_scene(scene: &Scene, rec: rerun::RecordingStream) -> anyhow::Resul
             final_rods: Vec::new(),
             total_dislocation_cm: Vec::new(),
             max_penetration_cm: 0.0,
+            step_seconds: 0.0,
         });
     }
     let mut world = scene.build()?;
@@ -738,14 +783,16 @@ fn check(paths: &[PathBuf]) -> anyhow::Result<()> {
         let scene = Scene::load(path)?;
         let world = scene.build()?;
         println!(
-            "{}: ok ({} bodies, {} constraints, {} ragdolls, {} frames at dt {} s, {} iterations)",
+            "{}: ok ({} bodies, {} constraints, {} ragdolls, {} frames at dt {} s, {} substep(s) x {} iterations, {} solver)",
             path.display(),
             world.bodies.len(),
             world.constraints.len(),
             world.ragdolls.len(),
             scene.def.frames,
             scene.def.dt,
-            scene.def.iterations
+            scene.def.substeps,
+            scene.def.iterations,
+            scene.def.solver
         );
     }
     Ok(())
@@ -757,10 +804,15 @@ pub fn print_summary(name: &str, scene: &Scene, report: &RunReport) {
         return;
     }
     println!(
-        "{name}: {} frames, dt {:.4} s, {} iterations, energy {:.1} J -> {:.1} J",
+        "{name}: {} frames, dt {:.4} s, {} substep(s) x {} iterations, {} solver on {} thread(s), \
+         {:.0} steps/s (stepping only), energy {:.1} J -> {:.1} J",
         report.frames,
         scene.def.dt,
+        scene.def.substeps,
         scene.def.iterations,
+        scene.def.solver,
+        rayon::current_num_threads(),
+        report.steps_per_second(),
         report.initial_energy,
         report.final_energy
     );

@@ -762,10 +762,12 @@ pub fn save_sweep(
     methods.dedup();
     for (index, method) in methods.iter().enumerate() {
         let [r, g, b] = crate::chart::PALETTE[index % crate::chart::PALETTE.len()];
+        // `rod/exact x4` -> entity `rod/exact_x4` (no spaces in entity paths)
+        let entity = method.replace(' ', "_");
         let color = rerun::Color::from_rgb(r, g, b);
         for kind in ["residual_log10", "step_us"] {
             rec.log_static(
-                format!("sweep/{kind}/{method}"),
+                format!("sweep/{kind}/{entity}"),
                 &rerun::SeriesLines::new()
                     .with_colors([color])
                     .with_names([*method]),
@@ -778,12 +780,12 @@ pub fn save_sweep(
             rec.set_time_sequence("iterations", row.iterations as i64);
             if row.mean_dislocation_cm > 0.0 {
                 rec.log(
-                    format!("sweep/residual_log10/{method}"),
+                    format!("sweep/residual_log10/{entity}"),
                     &rerun::Scalars::single(row.mean_dislocation_cm.log10()),
                 )?;
             }
             rec.log(
-                format!("sweep/step_us/{method}"),
+                format!("sweep/step_us/{entity}"),
                 &rerun::Scalars::single(row.step_us),
             )?;
         }

@@ -5,7 +5,7 @@ use crate::constraint::{JointFlavour, TwistMode};
 use crate::metrics::{FrameMetrics, Summary};
 use crate::ragdoll::SpineKind;
 use crate::scene::SceneDef;
-use crate::world::{SimulationError, World};
+use crate::world::{SimulationError, SolverKind, World};
 
 /// Receives the world after every frame.
 pub trait Observer {
@@ -38,6 +38,8 @@ impl<F: FnMut(&World, &FrameMetrics)> Observer for F {
 #[derive(Clone, Debug, Default)]
 pub struct Overrides {
     pub iterations: Option<u32>,
+    pub substeps: Option<u32>,
+    pub solver: Option<SolverKind>,
     pub dt: Option<f32>,
     pub frames: Option<u32>,
     pub spine: Option<SpineKind>,
@@ -51,6 +53,12 @@ impl Overrides {
     pub fn apply(&self, def: &mut SceneDef) {
         if let Some(v) = self.iterations {
             def.iterations = v;
+        }
+        if let Some(v) = self.substeps {
+            def.substeps = v;
+        }
+        if let Some(v) = self.solver {
+            def.solver = v;
         }
         if let Some(v) = self.dt {
             def.dt = v;
@@ -96,6 +104,18 @@ pub struct RunReport {
     pub total_dislocation_cm: Vec<f32>,
     /// Deepest contact penetration over the run (cm).
     pub max_penetration_cm: f32,
+    /// Wall time (s) spent in `World::step` alone: no measuring, no observer (recording).
+    pub step_seconds: f64,
+}
+
+impl RunReport {
+    /// Frames stepped per second of wall time spent stepping (0 when nothing was stepped).
+    pub fn steps_per_second(&self) -> f64 {
+        match self.step_seconds > 0.0 {
+            true => self.total_dislocation_cm.len() as f64 / self.step_seconds,
+            false => 0.0,
+        }
+    }
 }
 
 /// Steps `world` for `frames` frames. Residual statistics cover frames 1..=frames.
@@ -119,8 +139,12 @@ pub fn run(
     observer.begin(world, &metrics)?;
     let mut total_dislocation_cm = Vec::with_capacity(frames as usize);
     let mut max_penetration_cm = 0.0f32;
+    let mut step_seconds = 0.0f64;
     for _ in 0..frames {
-        if let Err(error) = world.step() {
+        let started = std::time::Instant::now();
+        let stepped = world.step();
+        step_seconds += started.elapsed().as_secs_f64();
+        if let Err(error) = stepped {
             observer.failed(world, &error);
             return Err(error.into());
         }
@@ -140,5 +164,6 @@ pub fn run(
         final_rods: metrics.rods,
         total_dislocation_cm,
         max_penetration_cm,
+        step_seconds,
     })
 }

@@ -1,25 +1,30 @@
 //! `rodlab sweep SCENE`: speed against accuracy.
 //!
-//! The scene is run headless once per combination of spine, joint flavour, time step and
-//! iteration count. Each run measures
+//! The scene is run headless once per combination of spine, joint flavour, row solver,
+//! substeps per frame, time step and iteration count. Each run measures
 //! - the cost: the median wall time of `World::step` over the frames after a warm-up, pooled
 //!   over `repeats` runs (the residuals are deterministic, only the time varies);
 //! - the accuracy: the residual after each frame (paper Fig. 8) per ragdoll, as the mean and the
 //!   maximum over frames and ragdolls of the dislocation (cm) and the angular violation (rad).
 //!
-//! A method is a spine and a joint flavour (`rod/exact`); its line on the chart runs through
-//! its iteration counts, so the speed/accuracy frontier is the lower-left envelope of the lines.
+//! A method is a spine and a joint flavour (`rod/exact`), with the row solver when not scalar
+//! and the substeps when more than one (`rod/exact simd x4`); its line on the chart runs through
+//! its iteration counts, so the speed/accuracy frontier is the lower-left envelope of the lines,
+//! and lines of one method at several substeps show whether iterations or substeps buy more
+//! accuracy per microsecond.
 //! A run that stops (NaN or an explosion) keeps its row, with the error, and no residual.
 //!
 //! CSV columns (`recordings/<scene>_sweep.csv`, one row per run, header first):
 //!
 //! | column | meaning |
 //! |---|---|
-//! | `method` | `<spine>/<joint>`, e.g. `rod/exact` |
+//! | `method` | `<spine>/<joint>[ simd][ x<substeps>]`, e.g. `rod/exact`, `rod/exact x4` |
 //! | `spine` | chain3, rod or single |
 //! | `joint` | cheap or exact |
-//! | `dt` | time step (s) |
-//! | `iterations` | solver iterations per frame |
+//! | `solver` | scalar or simd (empty for a peer engine) |
+//! | `substeps` | substeps per frame, each of `dt / substeps` (1: the paper's method) |
+//! | `dt` | time step (s) of a frame |
+//! | `iterations` | solver iterations per substep |
 //! | `step_us` | median time per step (microseconds) |
 //! | `mean_dislocation_cm`, `max_dislocation_cm` | per ragdoll, over frames |
 //! | `mean_angular_rad`, `max_angular_rad` | per ragdoll, over frames |
@@ -33,7 +38,7 @@ use crate::metrics::FrameMetrics;
 use crate::ragdoll::SpineKind;
 use crate::scene::{Scene, SceneDef};
 use crate::sim::Overrides;
-use crate::world::World;
+use crate::world::{SolverKind, World};
 
 /// What to sweep.
 #[derive(Clone, Debug)]
@@ -43,6 +48,10 @@ pub struct SweepConfig {
     pub joints: Vec<JointFlavour>,
     /// Empty: the scene's own time step.
     pub dts: Vec<f32>,
+    /// Substeps per frame.
+    pub substeps: Vec<u32>,
+    /// Row solvers.
+    pub solvers: Vec<SolverKind>,
     /// Frames per run; `None` keeps the scene's.
     pub frames: Option<u32>,
     /// Runs per combination, pooled for the median step time.
@@ -56,6 +65,8 @@ impl Default for SweepConfig {
             spines: vec![SpineKind::Chain3, SpineKind::Rod, SpineKind::Single],
             joints: vec![JointFlavour::Cheap, JointFlavour::Exact],
             dts: Vec::new(),
+            substeps: vec![1],
+            solvers: vec![SolverKind::Scalar],
             frames: None,
             repeats: 3,
         }
@@ -70,7 +81,12 @@ pub struct SweepRow {
     pub spine: String,
     /// cheap or exact for rodlab; the peer's joint kind for a peer.
     pub joint: String,
+    /// scalar or simd for rodlab; empty for a peer.
+    pub solver: String,
+    /// Substeps per frame (1 for a peer).
+    pub substeps: u32,
     pub dt: f32,
+    /// Iterations per substep.
     pub iterations: u32,
     pub step_us: f64,
     pub mean_dislocation_cm: f64,
@@ -87,6 +103,8 @@ impl SweepRow {
             method,
             spine,
             joint,
+            solver: String::new(),
+            substeps: 1,
             dt,
             iterations,
             step_us: 0.0,
@@ -99,31 +117,64 @@ impl SweepRow {
     }
 }
 
-/// The combinations in run order: method, then time step, then iterations.
+/// The combinations in run order: spine, joint, solver, substeps (these four make the method),
+/// then time step, then iterations. An empty `substeps` or `solvers` list keeps the scene's.
 pub fn combinations(def: &SceneDef, config: &SweepConfig) -> Vec<Overrides> {
-    let dts = if config.dts.is_empty() {
-        vec![def.dt]
-    } else {
-        config.dts.clone()
+    let or_scene = |list: &[f32], scene: f32| match list.is_empty() {
+        true => vec![scene],
+        false => list.to_vec(),
+    };
+    let dts = or_scene(&config.dts, def.dt);
+    let substeps = match config.substeps.is_empty() {
+        true => vec![def.substeps],
+        false => config.substeps.clone(),
+    };
+    let solvers = match config.solvers.is_empty() {
+        true => vec![def.solver],
+        false => config.solvers.clone(),
     };
     let mut all = Vec::new();
     for &spine in &config.spines {
         for &joint in &config.joints {
-            for &dt in &dts {
-                for &iterations in &config.iterations {
-                    all.push(Overrides {
-                        spine: Some(spine),
-                        joint_flavour: Some(joint),
-                        dt: Some(dt),
-                        iterations: Some(iterations),
-                        frames: config.frames,
-                        ..Default::default()
-                    });
+            for &solver in &solvers {
+                for &substeps in &substeps {
+                    for &dt in &dts {
+                        for &iterations in &config.iterations {
+                            all.push(Overrides {
+                                spine: Some(spine),
+                                joint_flavour: Some(joint),
+                                solver: Some(solver),
+                                substeps: Some(substeps),
+                                dt: Some(dt),
+                                iterations: Some(iterations),
+                                frames: config.frames,
+                                ..Default::default()
+                            });
+                        }
+                    }
                 }
             }
         }
     }
     all
+}
+
+/// The method's label: `<spine>/<joint>`, then ` simd` unless scalar, then ` x<substeps>`
+/// unless 1 (so the paper's method keeps its plain name).
+pub fn method_label(
+    spine: SpineKind,
+    joint: JointFlavour,
+    solver: SolverKind,
+    substeps: u32,
+) -> String {
+    let mut label = format!("{spine}/{joint}");
+    if solver != SolverKind::Scalar {
+        label += &format!(" {solver}");
+    }
+    if substeps != 1 {
+        label += &format!(" x{substeps}");
+    }
+    label
 }
 
 /// Runs one combination `repeats` times; `scene` is the scene as loaded.
@@ -132,13 +183,15 @@ pub fn run_one(scene: &Scene, overrides: &Overrides, repeats: u32) -> anyhow::Re
     overrides.apply(&mut scene.def);
     let def = &scene.def;
     let spine = overrides.spine.unwrap_or_default();
-    let row = SweepRow::new(
-        format!("{spine}/{}", def.joint_flavour),
+    let mut row = SweepRow::new(
+        method_label(spine, def.joint_flavour, def.solver, def.substeps),
         spine.to_string(),
         def.joint_flavour.to_string(),
         def.dt,
         def.iterations,
     );
+    row.solver = def.solver.to_string();
+    row.substeps = def.substeps;
     let frames = def.frames;
     time_and_measure(row, frames, repeats, || Ok(scene.build()?))
 }
@@ -227,7 +280,8 @@ pub fn median(values: &mut [f64]) -> f64 {
     values[values.len() / 2]
 }
 
-const HEADER: &str = "method,spine,joint,dt,iterations,step_us,mean_dislocation_cm,\
+const HEADER: &str =
+    "method,spine,joint,solver,substeps,dt,iterations,step_us,mean_dislocation_cm,\
 max_dislocation_cm,mean_angular_rad,max_angular_rad,failed";
 
 pub fn to_csv(rows: &[SweepRow]) -> String {
@@ -236,10 +290,12 @@ pub fn to_csv(rows: &[SweepRow]) -> String {
     for r in rows {
         let failed = r.failed.as_deref().unwrap_or("").replace([',', '\n'], ";");
         out += &format!(
-            "{},{},{},{},{},{:.3},{:.6},{:.6},{:.6},{:.6},{}\n",
+            "{},{},{},{},{},{},{},{:.3},{:.6},{:.6},{:.6},{:.6},{}\n",
             r.method,
             r.spine,
             r.joint,
+            r.solver,
+            r.substeps,
             r.dt,
             r.iterations,
             r.step_us,
@@ -253,7 +309,9 @@ pub fn to_csv(rows: &[SweepRow]) -> String {
     out
 }
 
-/// Reads back what [`to_csv`] wrote; errors name the line and the column.
+/// Reads back what [`to_csv`] wrote (columns as in the module's table: method, spine, joint,
+/// solver, substeps, dt, iterations, step_us, the four residuals, failed); errors name the line
+/// and the column.
 pub fn parse_csv(text: &str) -> anyhow::Result<Vec<SweepRow>> {
     use anyhow::{bail, Context as _};
     let mut lines = text.lines().enumerate();
@@ -264,8 +322,13 @@ pub fn parse_csv(text: &str) -> anyhow::Result<Vec<SweepRow>> {
     let mut rows = Vec::new();
     for (index, line) in lines.filter(|(_, l)| !l.is_empty()) {
         let fields: Vec<&str> = line.split(',').collect();
-        if fields.len() != 11 {
-            bail!("line {}: {} columns, expected 11", index + 1, fields.len());
+        let columns = HEADER.split(',').count();
+        if fields.len() != columns {
+            bail!(
+                "line {}: {} columns, expected {columns}",
+                index + 1,
+                fields.len()
+            );
         }
         let number = |column: usize| -> anyhow::Result<f64> {
             fields[column].parse::<f64>().with_context(|| {
@@ -277,20 +340,24 @@ pub fn parse_csv(text: &str) -> anyhow::Result<Vec<SweepRow>> {
             method: fields[0].to_string(),
             spine: fields[1].to_string(),
             joint: fields[2].to_string(),
-            dt: number(3)? as f32,
-            iterations: number(4)? as u32,
-            step_us: number(5)?,
-            mean_dislocation_cm: number(6)?,
-            max_dislocation_cm: number(7)?,
-            mean_angular_rad: number(8)?,
-            max_angular_rad: number(9)?,
-            failed: Some(fields[10].to_string()).filter(|s| !s.is_empty()),
+            solver: fields[3].to_string(),
+            substeps: number(4)? as u32,
+            dt: number(5)? as f32,
+            iterations: number(6)? as u32,
+            step_us: number(7)?,
+            mean_dislocation_cm: number(8)?,
+            max_dislocation_cm: number(9)?,
+            mean_angular_rad: number(10)?,
+            max_angular_rad: number(11)?,
+            failed: Some(fields[12].to_string()).filter(|s| !s.is_empty()),
         });
     }
     Ok(rows)
 }
 
-/// Residual against time per step, one line per method (and time step, when several).
+/// Residual against time per step, one line per method (and time step, when several) through
+/// its iteration counts; a method at several substeps or solvers has one line for each (the
+/// label carries them), so iterations and substeps can be compared at equal cost.
 pub fn chart(scene: &str, rows: &[SweepRow], machine: &str) -> Chart {
     let several_dts = rows.iter().any(|r| r.dt != rows[0].dt);
     let mut series: Vec<Series> = Vec::new();

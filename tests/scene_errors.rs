@@ -93,6 +93,44 @@ fn zero_iterations() {
 }
 
 #[test]
+fn zero_substeps() {
+    let e = error_for("iterations = 10", "iterations = 10\nsubsteps = 0");
+    assert_eq!(e, "scenes/x.toml:4: substeps: must be at least 1");
+}
+
+#[test]
+fn unknown_solver_names_the_choices() {
+    let e = error_for("iterations = 10", "iterations = 10\nsolver = \"gpu\"");
+    assert!(e.starts_with("scenes/x.toml:4: solver: "), "{e}");
+    assert!(
+        e.contains("\"gpu\"") && e.contains("scalar") && e.contains("simd"),
+        "{e}"
+    );
+}
+
+#[test]
+fn substeps_and_solver_reach_the_settings() {
+    use rodlab::world::SolverKind;
+    let default = Scene::parse("scenes/x.toml", GOOD)
+        .unwrap()
+        .build()
+        .unwrap();
+    assert_eq!(default.settings.substeps, 1);
+    assert_eq!(default.settings.solver, SolverKind::Scalar);
+    let text = GOOD.replacen(
+        "iterations = 10",
+        "iterations = 10\nsubsteps = 4\nsolver = \"simd\"",
+        1,
+    );
+    let world = Scene::parse("scenes/x.toml", &text)
+        .unwrap()
+        .build()
+        .unwrap();
+    assert_eq!(world.settings.substeps, 4);
+    assert_eq!(world.settings.solver, SolverKind::Simd);
+}
+
+#[test]
 fn unknown_body_in_a_joint() {
     let e = error_for(r#"b = "ball""#, r#"b = "bal""#);
     assert!(

@@ -16,7 +16,9 @@ use crate::constraint::{
 use crate::math::{quat_from_degrees, Iso, Quat, Vec3};
 use crate::ragdoll::{build_humanoid, joint_names, HumanoidSpec, RodParams, SpineKind};
 use crate::shape::{Axis, Shape};
-use crate::world::{Settings, World, DEFAULT_MAX_ANGULAR_SPEED, DEFAULT_MAX_LINEAR_SPEED};
+use crate::world::{
+    Settings, SolverKind, World, DEFAULT_MAX_ANGULAR_SPEED, DEFAULT_MAX_LINEAR_SPEED,
+};
 use locate::Seg;
 
 /// The top level of a scene file.
@@ -28,8 +30,15 @@ pub struct SceneDef {
     /// Frame time step (s).
     #[serde(default = "default_dt")]
     pub dt: f32,
+    /// Solver iterations per substep.
     #[serde(default = "default_iterations")]
     pub iterations: u32,
+    /// Substeps per frame, each of `dt / substeps` with `iterations` sweeps (1: the paper's method).
+    #[serde(default = "default_substeps")]
+    pub substeps: u32,
+    /// How the rows of a colour are solved: scalar (the reference) or simd.
+    #[serde(default)]
+    pub solver: SolverKind,
     #[serde(default = "default_frames")]
     pub frames: u32,
     /// Frames the main job (`rodlab`, `rodlab all`) runs instead of `frames`, for scenes too
@@ -257,6 +266,9 @@ fn default_dt() -> f32 {
 }
 fn default_iterations() -> u32 {
     20
+}
+fn default_substeps() -> u32 {
+    1
 }
 fn default_frames() -> u32 {
     300
@@ -612,6 +624,9 @@ impl Scene {
         if d.iterations == 0 {
             return Err((key("iterations"), "must be at least 1".into()));
         }
+        if d.substeps == 0 {
+            return Err((key("substeps"), "must be at least 1".into()));
+        }
         if d.frames == 0 {
             return Err((key("frames"), "must be at least 1".into()));
         }
@@ -768,8 +783,8 @@ impl Scene {
             gravity: Vec3::from(d.gravity),
             dt: d.dt,
             iterations: d.iterations,
-            substeps: 1,
-            solver: Default::default(),
+            substeps: d.substeps,
+            solver: d.solver,
             max_linear_speed: d.max_speed,
             max_angular_speed: d.max_angular_speed,
             contacts: d.contacts,
