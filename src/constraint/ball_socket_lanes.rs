@@ -1,13 +1,306 @@
-//! PLACEHOLDER: JointRow rows W at a time. Solves lane by lane with the scalar kernel until the
-//! branch-free SIMD kernel lands.
+//! Ball-and-socket joints W at a time (paper §7: "branch-free SIMD code, solving four
+//! constraints at once"): the maths of [`JointRow::solve`] with one joint per lane.
+//!
+//! Per iteration, as the scalar code: spring, limits, point. Every scalar `if` becomes a mask:
+//! each part computes its correction on all lanes and applies it through [`apply_angular`] /
+//! [`apply_positional`], which leave a lane untouched where the scalar code would have returned
+//! early (zero-length error, zero effective mass, a limit not reached, an immovable body). Rows
+//! without a spring get relaxation 0 and rows without a limit get infinite bounds, so their
+//! lanes produce no correction. Per-batch branches only where all lanes agree: the spring and
+//! limit parts are skipped when no lane has one, and the cheap or exact point solve when no
+//! lane uses it (a mixed batch computes both and selects).
+//!
+//! The degenerate cases follow the scalar guards: `|C| < 1e-9` (cheap) / `|C|^2 < 1e-18`
+//! (exact), `|det K| < 1e-20`, `w <= 0`, rotation angle `< 1e-9`, and a swing axis that does
+//! not normalise (glam's `try_normalize`) falls back to glam's `any_orthonormal_vector`.
 
+use super::{JointFlavour, JointRow};
+use crate::math::Quat;
 use crate::solver::body::SharedBodies;
+use crate::solver::lanes::{BodyLanes, Lane, SymM3, Q, V3};
+use std::f32::consts::{PI, TAU};
 
-pub fn solve_batch(rows: &mut [super::JointRow], bodies: SharedBodies) {
-    for row in rows {
-        let (a, b) = crate::solver::RowBodies::bodies(row);
-        // SAFETY: the batch's rows share no movable body.
-        unsafe { bodies.with_pair(a, b, |a, b| row.solve(a, b)) };
+/// Solves `rows` (exactly [`crate::solver::SIMD_WIDTH`] = 4 rows of one colour, which share no
+/// movable body) in `wide::f32x4` lanes.
+pub fn solve_batch(rows: &mut [JointRow], bodies: SharedBodies) {
+    solve_lanes::<wide::f32x4>(rows, bodies)
+}
+
+/// Solves `L::W` rows sharing no movable body at once: gather, spring, limits, point, scatter.
+pub fn solve_lanes<L: Lane>(rows: &mut [JointRow], bodies: SharedBodies) {
+    assert_eq!(rows.len(), L::W, "a batch is exactly one row per lane");
+    let mut index_a = [0u32; 8];
+    let mut index_b = [0u32; 8];
+    for (i, row) in rows.iter().enumerate() {
+        debug_assert_ne!(row.body_a, row.body_b, "a constraint needs two distinct bodies");
+        index_a[i] = row.body_a;
+        index_b[i] = row.body_b;
+    }
+    let (index_a, index_b) = (&index_a[..L::W], &index_b[..L::W]);
+    // SAFETY: the rows of a batch share no movable body, and no other thread touches them
+    // (the caller's colouring); immovable bodies are only read.
+    let (mut a, mut b) = unsafe {
+        (
+            BodyLanes::<L>::gather(bodies, index_a),
+            BodyLanes::<L>::gather(bodies, index_b),
+        )
+    };
+    solve_bodies(rows, &mut a, &mut b);
+    // SAFETY: as above; scatter skips immovable bodies, which may repeat across lanes.
+    unsafe {
+        a.scatter(bodies, index_a);
+        b.scatter(bodies, index_b);
+    }
+}
+
+/// The kernel on gathered bodies: one projection of each lane's joint.
+#[inline(always)]
+fn solve_bodies<L: Lane>(rows: &[JointRow], a: &mut BodyLanes<L>, b: &mut BodyLanes<L>) {
+    let movable_a = movable(a);
+    let movable_b = movable(b);
+
+    // Spring: remove `relaxation` of the rotation q_a q_rest q_b^-1.
+    if rows.iter().any(|r| r.spring.is_some()) {
+        let relaxation = L::from_fn(|i| rows[i].spring.map_or(0.0, |s| s.relaxation));
+        let rest = Q::from_fn(|i| rows[i].spring.map_or(Quat::IDENTITY, |s| s.rest));
+        let error = a
+            .orientation
+            .mul(rest)
+            .mul(b.orientation.conjugate())
+            .rotation_vector();
+        relative_rotation(a, b, movable_a, movable_b, error.scale(relaxation));
+    }
+
+    // Limits: swing cone, then twist unwrapped next to the substep's starting twist.
+    if rows.iter().any(|r| r.limit.is_some()) {
+        let limit = |i: usize| rows[i].limit;
+        let swing_max = L::from_fn(|i| limit(i).map_or(f32::INFINITY, |l| l.swing_max));
+        let twist_min = L::from_fn(|i| limit(i).map_or(f32::NEG_INFINITY, |l| l.twist_min));
+        let twist_max = L::from_fn(|i| limit(i).map_or(f32::INFINITY, |l| l.twist_max));
+        let start_twist = L::from_fn(|i| if limit(i).is_some() { rows[i].start_twist } else { 0.0 });
+        let frame_a = Q::from_fn(|i| rows[i].frame_a);
+        let frame_b = Q::from_fn(|i| rows[i].frame_b);
+
+        let ax = a.orientation.mul(frame_a).x_axis();
+        let bx = b.orientation.mul(frame_b).x_axis();
+        let cross = ax.cross(bx);
+        let swing = cross.length().atan2(ax.dot(bx));
+        let over = swing.gt(swing_max);
+        // glam's try_normalize fails where 1 / |v| is not finite.
+        let (axis, _) = cross.normalize_or(any_perpendicular(ax), 1.0 / f32::MAX);
+        // Lanes not over the cone get a zero rotation, which the angle guard skips.
+        let amount = over.select(-(swing - swing_max), L::zero());
+        relative_rotation(a, b, movable_a, movable_b, axis.scale(amount));
+
+        let fa = a.orientation.mul(frame_a);
+        let fb = b.orientation.mul(frame_b);
+        let r = fa.conjugate().mul(fb);
+        let twist = wrap_angle(L::splat(2.0) * r.x.atan2(r.w));
+        let unwrapped = start_twist + wrap_angle(twist - start_twist);
+        let excess = unwrapped.gt(twist_max).select(
+            unwrapped - twist_max,
+            unwrapped.lt(twist_min).select(unwrapped - twist_min, L::zero()),
+        );
+        // `excess != 0` is the angle guard's business: a zero excess gives a zero rotation.
+        relative_rotation(a, b, movable_a, movable_b, fb.x_axis().scale(-excess));
+    }
+
+    // Point: the dislocation at the freshest poses, cheap (one row along the error) or exact
+    // (the 3x3 block).
+    let anchor_a = V3::from_fn(|i| rows[i].anchor_a);
+    let anchor_b = V3::from_fn(|i| rows[i].anchor_b);
+    let ra = a.orientation.rotate(anchor_a);
+    let rb = b.orientation.rotate(anchor_b);
+    let d = (b.position + rb) - (a.position + ra);
+    let any_cheap = rows.iter().any(|r| r.flavour == JointFlavour::Cheap);
+    let any_exact = rows.iter().any(|r| r.flavour == JointFlavour::Exact);
+    let (impulse, active) = match (any_cheap, any_exact) {
+        (true, false) => point_along_error(a, b, ra, rb, d),
+        (false, true) => point_block(a, b, ra, rb, d),
+        _ => {
+            let exact = L::from_fn(|i| {
+                if rows[i].flavour == JointFlavour::Exact {
+                    1.0
+                } else {
+                    0.0
+                }
+            })
+            .gt(L::zero());
+            let (ic, ac) = point_along_error(a, b, ra, rb, d);
+            let (ie, ae) = point_block(a, b, ra, rb, d);
+            (V3::select(exact, ie, ic), exact.select(ae, ac))
+        }
+    };
+    apply_positional(a, impulse, ra, active & movable_a);
+    apply_positional(b, -impulse, rb, active & movable_b);
+}
+
+/// Mask of lanes whose body moves (the scalar `inverse_mass == 0` early return).
+#[inline(always)]
+fn movable<L: Lane>(body: &BodyLanes<L>) -> L {
+    body.inverse_mass.gt(L::zero()) | body.inverse_mass.lt(L::zero())
+}
+
+/// Per-lane logical not of a mask.
+#[inline(always)]
+fn not<L: Lane>(mask: L) -> L {
+    mask.select(L::zero(), L::zero().lt(L::splat(1.0)))
+}
+
+/// `v / s` per lane (a division, as glam's `Vec3 / f32`).
+#[inline(always)]
+fn div<L: Lane>(v: V3<L>, s: L) -> V3<L> {
+    V3 {
+        x: v.x / s,
+        y: v.y / s,
+        z: v.z / s,
+    }
+}
+
+/// Wraps an angle in [-2 pi, 2 pi] to [-pi, pi], as [`crate::math::wrap_angle`] does there (every
+/// angle wrapped here is twice an `atan2` or the difference of two wrapped angles).
+#[inline(always)]
+fn wrap_angle<L: Lane>(a: L) -> L {
+    let a = a.gt(L::splat(PI)).select(a - L::splat(TAU), a);
+    a.lt(L::splat(-PI)).select(a + L::splat(TAU), a)
+}
+
+/// glam's `any_orthonormal_vector` per lane, with its `signum` (so `-0.0` counts as negative).
+#[inline(always)]
+fn any_perpendicular<L: Lane>(v: V3<L>) -> V3<L> {
+    let sign = (v.z & L::splat(-0.0)) | L::splat(1.0);
+    let a = -L::splat(1.0) / (sign + v.z);
+    let b = v.x * v.y * a;
+    V3 {
+        x: b,
+        y: sign + v.y * v.y * a,
+        z: -v.y,
+    }
+}
+
+/// [`SolverBody::apply_positional_impulse`](crate::solver::body::SolverBody) on the lanes of
+/// `mask`; the other lanes keep their pose exactly.
+#[inline(always)]
+fn apply_positional<L: Lane>(body: &mut BodyLanes<L>, impulse: V3<L>, r: V3<L>, mask: L) {
+    body.position = V3::select(mask, body.position + impulse.scale(body.inverse_mass), body.position);
+    let dtheta = body.inverse_inertia.mul_vec(r.cross(impulse));
+    rotate_preview(body, dtheta, mask);
+}
+
+/// [`SolverBody::apply_angular_impulse`](crate::solver::body::SolverBody) on the lanes of `mask`.
+#[inline(always)]
+fn apply_angular<L: Lane>(body: &mut BodyLanes<L>, l: V3<L>, mask: L) {
+    let dtheta = body.inverse_inertia.mul_vec(l);
+    rotate_preview(body, dtheta, mask);
+}
+
+#[inline(always)]
+fn rotate_preview<L: Lane>(body: &mut BodyLanes<L>, dtheta: V3<L>, mask: L) {
+    let correction = body.rotation_correction + dtheta;
+    let orientation = body.predicted.rotate_by_small(correction);
+    body.rotation_correction = V3::select(mask, correction, body.rotation_correction);
+    body.orientation = Q {
+        x: mask.select(orientation.x, body.orientation.x),
+        y: mask.select(orientation.y, body.orientation.y),
+        z: mask.select(orientation.z, body.orientation.z),
+        w: mask.select(orientation.w, body.orientation.w),
+    };
+}
+
+/// [`super::parts::relative_rotation`] per lane: turns b by `rotation_b` relative to a.
+#[inline(always)]
+fn relative_rotation<L: Lane>(
+    a: &mut BodyLanes<L>,
+    b: &mut BodyLanes<L>,
+    movable_a: L,
+    movable_b: L,
+    rotation_b: V3<L>,
+) {
+    let angle = rotation_b.length();
+    let big = not(angle.lt(L::splat(1e-9)));
+    let n = div(rotation_b, big.select(angle, L::splat(1.0)));
+    let w = a.angular_inverse_mass(n) + b.angular_inverse_mass(n);
+    let positive = w.gt(L::zero());
+    let active = big & positive;
+    let l = n.scale(angle / positive.select(w, L::splat(1.0)));
+    apply_angular(a, -l, active & movable_a);
+    apply_angular(b, l, active & movable_b);
+}
+
+/// [`super::parts::point_along_error`] with relaxation 1: the impulse on a (b gets its
+/// negative) and the mask of lanes that apply it.
+#[inline(always)]
+fn point_along_error<L: Lane>(
+    a: &BodyLanes<L>,
+    b: &BodyLanes<L>,
+    ra: V3<L>,
+    rb: V3<L>,
+    d: V3<L>,
+) -> (V3<L>, L) {
+    let distance = d.length();
+    let long = not(distance.lt(L::splat(1e-9)));
+    let n = div(d, long.select(distance, L::splat(1.0)));
+    let w = a.positional_inverse_mass(ra, n) + b.positional_inverse_mass(rb, n);
+    let positive = w.gt(L::zero());
+    let impulse = n.scale(distance / positive.select(w, L::splat(1.0)));
+    (impulse, long & positive)
+}
+
+/// [`super::parts::point_block`] with relaxation 1: `P = K^-1 C` by the adjugate of the
+/// symmetric `K = K_a + K_b`, and the mask of lanes that apply it.
+#[inline(always)]
+fn point_block<L: Lane>(
+    a: &BodyLanes<L>,
+    b: &BodyLanes<L>,
+    ra: V3<L>,
+    rb: V3<L>,
+    d: V3<L>,
+) -> (V3<L>, L) {
+    let ka = point_inverse_mass_matrix(a, ra);
+    let kb = point_inverse_mass_matrix(b, rb);
+    let k = SymM3 {
+        xx: ka.xx + kb.xx,
+        yy: ka.yy + kb.yy,
+        zz: ka.zz + kb.zz,
+        xy: ka.xy + kb.xy,
+        xz: ka.xz + kb.xz,
+        yz: ka.yz + kb.yz,
+    };
+    // Cofactors of a symmetric matrix (the adjugate is symmetric too).
+    let adj = SymM3 {
+        xx: k.yy * k.zz - k.yz * k.yz,
+        yy: k.xx * k.zz - k.xz * k.xz,
+        zz: k.xx * k.yy - k.xy * k.xy,
+        xy: k.xz * k.yz - k.xy * k.zz,
+        xz: k.xy * k.yz - k.xz * k.yy,
+        yz: k.xy * k.xz - k.xx * k.yz,
+    };
+    let det = k.xx * adj.xx + k.xy * adj.xy + k.xz * adj.xz;
+    let moving = not(d.length_squared().lt(L::splat(1e-18)));
+    let invertible = not(det.abs().lt(L::splat(1e-20)));
+    let active = moving & invertible;
+    let inv_det = L::splat(1.0) / invertible.select(det, L::splat(1.0));
+    (adj.mul_vec(d).scale(inv_det), active)
+}
+
+/// `1/m E - [r] I^-1 [r]` per lane: `-[r] I^-1 [r] = [r]^T I^-1 [r]` has entries
+/// `s_i . I^-1 s_j` with the columns `s_j = r x e_j` of `[r]`.
+#[inline(always)]
+fn point_inverse_mass_matrix<L: Lane>(body: &BodyLanes<L>, r: V3<L>) -> SymM3<L> {
+    let zero = L::zero();
+    let s0 = V3 { x: zero, y: r.z, z: -r.y };
+    let s1 = V3 { x: -r.z, y: zero, z: r.x };
+    let s2 = V3 { x: r.y, y: -r.x, z: zero };
+    let i = &body.inverse_inertia;
+    let (t0, t1, t2) = (i.mul_vec(s0), i.mul_vec(s1), i.mul_vec(s2));
+    let m = body.inverse_mass;
+    SymM3 {
+        xx: m + s0.dot(t0),
+        yy: m + s1.dot(t1),
+        zz: m + s2.dot(t2),
+        xy: s0.dot(t1),
+        xz: s0.dot(t2),
+        yz: s1.dot(t2),
     }
 }
 
