@@ -303,11 +303,3 @@ fn point_inverse_mass_matrix<L: Lane>(body: &BodyLanes<L>, r: V3<L>) -> SymM3<L>
         yz: s1.dot(t2),
     }
 }
-
-/// PLACEHOLDER: `L::W` rows, lane by lane.
-pub fn solve_lanes<L: crate::solver::lanes::Lane>(
-    rows: &mut [super::JointRow],
-    bodies: SharedBodies,
-) {
-    solve_batch(rows, bodies)
-}
