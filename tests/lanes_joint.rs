@@ -43,7 +43,11 @@ fn dynamic_body(rng: &mut Rng, position: Vec3) -> SolverBody {
     let correction = rng.vec(0.05);
     let orientation = rotate_by_small(predicted, correction);
     let mass = rng.range(0.5, 5.0);
-    let inertia_diag = Vec3::new(rng.range(0.01, 0.2), rng.range(0.01, 0.2), rng.range(0.01, 0.2));
+    let inertia_diag = Vec3::new(
+        rng.range(0.01, 0.2),
+        rng.range(0.01, 0.2),
+        rng.range(0.01, 0.2),
+    );
     let r = Mat3::from_quat(orientation);
     SolverBody {
         orientation,
@@ -106,7 +110,11 @@ fn make_row(
         spring: None,
         flavour,
     };
-    let limit = AngularLimit::cone(rng.range(0.1, 0.6), rng.range(-0.8, -0.1), rng.range(0.1, 0.8));
+    let limit = AngularLimit::cone(
+        rng.range(0.1, 0.6),
+        rng.range(-0.8, -0.1),
+        rng.range(0.1, 0.8),
+    );
     let spring = AngularSpring {
         relaxation: rng.range(0.1, 1.0),
         rest: rng.quat(),
@@ -176,7 +184,13 @@ fn make_row(
 }
 
 /// Builds W rows over fresh bodies; `statics` puts a shared static body into some lanes.
-fn batch(seed: u64, w: usize, cases: &[Case], flavours: &[JointFlavour], statics: bool) -> (Vec<SolverBody>, Vec<JointRow>) {
+fn batch(
+    seed: u64,
+    w: usize,
+    cases: &[Case],
+    flavours: &[JointFlavour],
+    statics: bool,
+) -> (Vec<SolverBody>, Vec<JointRow>) {
     let mut rng = Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1);
     let mut bodies = Vec::new();
     bodies.push(static_body(&mut rng)); // body 0, static, shared
@@ -187,7 +201,10 @@ fn batch(seed: u64, w: usize, cases: &[Case], flavours: &[JointFlavour], statics
         let a = bodies.len() as u32;
         bodies.push(dynamic_body(&mut rng, pa));
         let b = bodies.len() as u32;
-        bodies.push(dynamic_body(&mut rng, pa + Vec3::new(0.3, 0.0, 0.0) + dislocation));
+        bodies.push(dynamic_body(
+            &mut rng,
+            pa + Vec3::new(0.3, 0.0, 0.0) + dislocation,
+        ));
         let (ia, ib) = match (statics, i % 4) {
             (true, 1) => (0, b),
             (true, 2) => (a, 0),
@@ -204,9 +221,17 @@ fn batch(seed: u64, w: usize, cases: &[Case], flavours: &[JointFlavour], statics
         if !static_a && row.body_b != 0 {
             continue;
         }
-        let (s, k) = if static_a { (row.body_a, row.body_b) } else { (row.body_b, row.body_a) };
+        let (s, k) = if static_a {
+            (row.body_a, row.body_b)
+        } else {
+            (row.body_b, row.body_a)
+        };
         let (s, k) = (bodies[s as usize], bodies[k as usize]);
-        let (anchor_k, frame_k) = if static_a { (row.anchor_b, row.frame_b) } else { (row.anchor_a, row.frame_a) };
+        let (anchor_k, frame_k) = if static_a {
+            (row.anchor_b, row.frame_b)
+        } else {
+            (row.anchor_a, row.frame_a)
+        };
         let rest = matches!(case, Case::Rest);
         let target = k.point(anchor_k) + if rest { Vec3::ZERO } else { rng.vec(0.05) };
         let anchor_s = s.orientation.inverse() * (target - s.position);
@@ -217,7 +242,11 @@ fn batch(seed: u64, w: usize, cases: &[Case], flavours: &[JointFlavour], statics
         }
         if rest {
             let frame_s = s.orientation.inverse() * (k.orientation * frame_k);
-            let (qa, qb) = if static_a { (s.orientation, k.orientation) } else { (k.orientation, s.orientation) };
+            let (qa, qb) = if static_a {
+                (s.orientation, k.orientation)
+            } else {
+                (k.orientation, s.orientation)
+            };
             if static_a {
                 row.frame_a = frame_s;
             } else {
@@ -250,14 +279,24 @@ fn compare(
     let mut dp = 0.0f32;
     let mut dq = 0.0f32;
     for (i, (s, l)) in scalar.iter().zip(&lanes).enumerate() {
-        assert!(l.position.is_finite() && l.orientation.is_finite(), "body {i} not finite");
+        assert!(
+            l.position.is_finite() && l.orientation.is_finite(),
+            "body {i} not finite"
+        );
         dp = dp.max((s.position - l.position).abs().max_element());
         dq = dq.max((Vec4(s.orientation) - Vec4(l.orientation)).max_abs());
-        dq = dq.max((s.rotation_correction - l.rotation_correction).abs().max_element());
+        dq = dq.max(
+            (s.rotation_correction - l.rotation_correction)
+                .abs()
+                .max_element(),
+        );
         if s.inverse_mass == 0.0 {
             assert_eq!(s.position, bodies[i].position);
             assert_eq!(l.position, bodies[i].position, "static body {i} moved");
-            assert_eq!(l.orientation, bodies[i].orientation, "static body {i} turned");
+            assert_eq!(
+                l.orientation, bodies[i].orientation,
+                "static body {i} turned"
+            );
         }
     }
     (dp, dq)
@@ -353,11 +392,22 @@ fn eight_lanes_match_scalar() {
 /// The lanes at rest stay exactly where they are; the antiparallel hinge is corrected.
 #[test]
 fn rest_lanes_do_not_move_and_fallback_axis_works() {
-    let (bodies, rows) = batch(7, 4, &[Case::Rest, Case::Antiparallel], &[JointFlavour::Exact], false);
+    let (bodies, rows) = batch(
+        7,
+        4,
+        &[Case::Rest, Case::Antiparallel],
+        &[JointFlavour::Exact],
+        false,
+    );
     let mut lanes = bodies.clone();
     let mut lane_rows = rows.clone();
     solve_batch(&mut lane_rows, SharedBodies::new(&mut lanes));
-    for (row, case) in rows.iter().zip([Case::Rest, Case::Antiparallel, Case::Rest, Case::Antiparallel]) {
+    for (row, case) in rows.iter().zip([
+        Case::Rest,
+        Case::Antiparallel,
+        Case::Rest,
+        Case::Antiparallel,
+    ]) {
         let (a, b) = (row.body_a as usize, row.body_b as usize);
         match case {
             Case::Rest => {
@@ -370,7 +420,11 @@ fn rest_lanes_do_not_move_and_fallback_axis_works() {
                 // swing reduced from pi
                 let ax = lanes[a].orientation * row.frame_a * Vec3::X;
                 let bx = lanes[b].orientation * row.frame_b * Vec3::X;
-                assert!(ax.dot(bx) > -0.99, "antiparallel hinge not turned: {}", ax.dot(bx));
+                assert!(
+                    ax.dot(bx) > -0.99,
+                    "antiparallel hinge not turned: {}",
+                    ax.dot(bx)
+                );
             }
         }
     }
@@ -385,10 +439,16 @@ fn iterations_stay_together() {
         for flavours in [&[JointFlavour::Cheap][..], &[JointFlavour::Exact][..]] {
             let (bodies, rows) = batch(1000 + seed, 4, &ALL, flavours, seed % 2 == 0);
             let (p, q) = compare(&bodies, &rows, lanes4, 10);
-            assert!(p < POSITION_TOL && q < ORIENTATION_TOL, "seed {seed}: {p:e} {q:e}");
+            assert!(
+                p < POSITION_TOL && q < ORIENTATION_TOL,
+                "seed {seed}: {p:e} {q:e}"
+            );
             let (bodies, rows) = batch(2000 + seed, 8, &ALL, flavours, seed % 2 == 0);
             let (p, q) = compare(&bodies, &rows, lanes8, 10);
-            assert!(p < POSITION_TOL && q < ORIENTATION_TOL, "seed {seed}: {p:e} {q:e}");
+            assert!(
+                p < POSITION_TOL && q < ORIENTATION_TOL,
+                "seed {seed}: {p:e} {q:e}"
+            );
         }
     }
 }
@@ -404,8 +464,16 @@ fn timing() {
     for (label, flavour, cases) in [
         ("cheap", JointFlavour::Cheap, &[Case::Plain][..]),
         ("exact", JointFlavour::Exact, &[Case::Plain][..]),
-        ("exact_with_limits", JointFlavour::Exact, &[Case::Limited][..]),
-        ("exact_limits_springs", JointFlavour::Exact, &[Case::Both][..]),
+        (
+            "exact_with_limits",
+            JointFlavour::Exact,
+            &[Case::Limited][..],
+        ),
+        (
+            "exact_limits_springs",
+            JointFlavour::Exact,
+            &[Case::Both][..],
+        ),
     ] {
         let (bodies, rows) = batch(99, JOINTS, cases, &[flavour], false);
         let mut work = bodies.clone();
@@ -421,10 +489,14 @@ fn timing() {
                         0 => {}
                         1 => {
                             for row in lane_rows.iter() {
-                                unsafe { shared.with_pair(row.body_a, row.body_b, |a, b| row.solve(a, b)) };
+                                unsafe {
+                                    shared.with_pair(row.body_a, row.body_b, |a, b| row.solve(a, b))
+                                };
                             }
                         }
-                        4 => lane_rows.chunks_exact_mut(4).for_each(|c| solve_batch(c, shared)),
+                        4 => lane_rows
+                            .chunks_exact_mut(4)
+                            .for_each(|c| solve_batch(c, shared)),
                         _ => lane_rows
                             .chunks_exact_mut(8)
                             .for_each(|c| solve_lanes::<wide::f32x8>(c, shared)),
@@ -446,7 +518,6 @@ fn timing() {
         );
     }
 }
-
 
 /// End to end: 16 swinging chains (every colour has 16 rows, so whole batches of 4 and 8),
 /// cheap and exact, limited and sprung, stepped with the scalar and the SIMD solver. The
@@ -470,15 +541,24 @@ fn world_steps_agree_scalar_and_simd() {
         for c in 0..16 {
             let top = Vec3::new(c as f32, 3.0, 0.0);
             let mut previous = world.add_body(
-                Body::new(format!("s{c}"), BodyKind::Fixed, Shape::Sphere { radius: 0.03 }, 1.0)
-                    .with_pose(top, Quat::IDENTITY),
+                Body::new(
+                    format!("s{c}"),
+                    BodyKind::Fixed,
+                    Shape::Sphere { radius: 0.03 },
+                    1.0,
+                )
+                .with_pose(top, Quat::IDENTITY),
             );
             for i in 0..4 {
                 let centre = top - Vec3::Y * (0.1 * (2 * i + 1) as f32);
                 let mut body = Body::new(
                     format!("l{c}_{i}"),
                     BodyKind::Dynamic,
-                    Shape::Capsule { half_height: 0.1, radius: 0.03, axis: Axis::Y },
+                    Shape::Capsule {
+                        half_height: 0.1,
+                        radius: 0.03,
+                        axis: Axis::Y,
+                    },
                     1.0,
                 )
                 .with_pose(centre, Quat::IDENTITY);
@@ -516,10 +596,15 @@ fn world_steps_agree_scalar_and_simd() {
             simd.step().unwrap();
             for (s, l) in scalar.bodies.iter().zip(&simd.bodies) {
                 worst.0 = worst.0.max((s.position - l.position).abs().max_element());
-                worst.1 = worst.1.max((Vec4(s.orientation) - Vec4(l.orientation)).max_abs());
+                worst.1 = worst
+                    .1
+                    .max((Vec4(s.orientation) - Vec4(l.orientation)).max_abs());
             }
         }
-        println!("world {flavour}: {FRAMES} frames, max |dp| {:e}, max |dq| {:e}", worst.0, worst.1);
+        println!(
+            "world {flavour}: {FRAMES} frames, max |dp| {:e}, max |dq| {:e}",
+            worst.0, worst.1
+        );
         assert!(worst.0 < 1e-4 && worst.1 < 2e-3, "{flavour}: {worst:?}");
     }
 }

@@ -40,18 +40,38 @@ fn cases() -> Vec<Case> {
     };
     vec![
         // bent
-        c(Vec3::new(0.03, 0.0, 0.0), Quat::from_rotation_z(0.4), 0.1, 0.5),
+        c(
+            Vec3::new(0.03, 0.0, 0.0),
+            Quat::from_rotation_z(0.4),
+            0.1,
+            0.5,
+        ),
         // twisted about the rod (y), no softness
         c(Vec3::ZERO, Quat::from_rotation_y(0.6), 0.0, 0.0),
         // stretched and bent
-        c(Vec3::new(0.0, 0.05, 0.01), Quat::from_rotation_x(0.3), 0.3, 0.0),
+        c(
+            Vec3::new(0.0, 0.05, 0.01),
+            Quat::from_rotation_x(0.3),
+            0.3,
+            0.0,
+        ),
         // static pelvis
         Case {
             static_pelvis: true,
-            ..c(Vec3::new(-0.02, -0.03, 0.04), Quat::from_rotation_x(0.25) * Quat::from_rotation_y(0.3), 0.2, 0.2)
+            ..c(
+                Vec3::new(-0.02, -0.03, 0.04),
+                Quat::from_rotation_x(0.25) * Quat::from_rotation_y(0.3),
+                0.2,
+                0.2,
+            )
         },
         // near straight: psi ~ 1e-4, slightly stretched
-        c(Vec3::new(0.0, 1e-3, 0.0), Quat::from_rotation_z(1e-4), 0.5, 0.5),
+        c(
+            Vec3::new(0.0, 1e-3, 0.0),
+            Quat::from_rotation_z(1e-4),
+            0.5,
+            0.5,
+        ),
         // the benchmark's perturbation
         c(
             Vec3::new(0.01 * 1.7f32.sin(), -0.02, 0.05),
@@ -60,9 +80,19 @@ fn cases() -> Vec<Case> {
             0.5,
         ),
         // strongly bent and twisted, stiff
-        c(Vec3::new(0.1, -0.1, 0.0), Quat::from_rotation_z(1.5) * Quat::from_rotation_y(0.7), 1.0, 1.0),
+        c(
+            Vec3::new(0.1, -0.1, 0.0),
+            Quat::from_rotation_z(1.5) * Quat::from_rotation_y(0.7),
+            1.0,
+            1.0,
+        ),
         // compressed and twisted
-        c(Vec3::new(0.0, -0.06, 0.0), Quat::from_rotation_y(-1.0) * Quat::from_rotation_x(0.05), 0.0, 1.0),
+        c(
+            Vec3::new(0.0, -0.06, 0.0),
+            Quat::from_rotation_y(-1.0) * Quat::from_rotation_x(0.05),
+            0.0,
+            1.0,
+        ),
     ]
 }
 
@@ -92,7 +122,8 @@ fn rods(copies: usize) -> (Vec<SolverBody>, Vec<RodRow>) {
         let chest = Body::new(format!("c{k}"), BodyKind::Dynamic, capsule(0.12), 18.1)
             .with_pose(Vec3::new(x, 1.385, 0.0), tilt);
         let mut pair = vec![pelvis, chest];
-        let mut rod = Rod::instantiate(format!("r{k}"), &pair, BodyId(0), BodyId(1), Vec3::Z).unwrap();
+        let mut rod =
+            Rod::instantiate(format!("r{k}"), &pair, BodyId(0), BodyId(1), Vec3::Z).unwrap();
         rod.alpha_bend = case.alpha_bend;
         rod.alpha_twist = case.alpha_twist;
         let chest = &mut pair[1];
@@ -136,8 +167,16 @@ fn max_difference(x: &[SolverBody], y: &[SolverBody]) -> (f32, f32, f32) {
     let mut d = (0.0f32, 0.0f32, 0.0f32);
     for (a, b) in x.iter().zip(y) {
         d.0 = d.0.max((a.position - b.position).abs().max_element());
-        d.1 = d.1.max((glam::Vec4::from(a.orientation) - glam::Vec4::from(b.orientation)).abs().max_element());
-        d.2 = d.2.max((a.rotation_correction - b.rotation_correction).abs().max_element());
+        d.1 = d.1.max(
+            (glam::Vec4::from(a.orientation) - glam::Vec4::from(b.orientation))
+                .abs()
+                .max_element(),
+        );
+        d.2 = d.2.max(
+            (a.rotation_correction - b.rotation_correction)
+                .abs()
+                .max_element(),
+        );
         assert_eq!(a.predicted, b.predicted);
         assert!(a.position.is_finite() && a.orientation.is_finite());
     }
@@ -153,14 +192,21 @@ fn agree(w: usize, copies: usize) {
     let (dp, dq, dc) = max_difference(&scalar, &lanes);
     let moved = max_difference(&start, &scalar);
     println!("W={w}: max |dp| {dp:.2e} m, |dq| {dq:.2e}, |dtheta| {dc:.2e} (the solve itself moved {:.2e} m, {:.2e})", moved.0, moved.1);
-    assert!(moved.0 > 1e-3 && moved.1 > 1e-3, "the rods must actually be corrected");
+    assert!(
+        moved.0 > 1e-3 && moved.1 > 1e-3,
+        "the rods must actually be corrected"
+    );
     assert!(dp < 1e-5, "positions differ by {dp}");
     assert!(dq < 1e-4, "quaternions differ by {dq}");
     // the static pelvis never moves
     for (k, row) in rows.iter().enumerate() {
         if start[row.body_a as usize].inverse_mass == 0.0 {
             let (s, l) = (&start[row.body_a as usize], &lanes[row.body_a as usize]);
-            assert_eq!((s.position, s.orientation), (l.position, l.orientation), "rod {k}");
+            assert_eq!(
+                (s.position, s.orientation),
+                (l.position, l.orientation),
+                "rod {k}"
+            );
         }
     }
 }
@@ -222,13 +268,22 @@ fn repeated_batches_converge_like_scalar() {
             if k != 3 {
                 assert!(l.0 < 1e-4 && l.1 < 1e-4, "W={w} rod {k}: {l:?}");
             }
-            assert!((l.0 - s.0).abs() < 1e-5 && (l.1 - s.1).abs() < 1e-5, "W={w} rod {k}: {l:?} vs scalar {s:?}");
+            assert!(
+                (l.0 - s.0).abs() < 1e-5 && (l.1 - s.1).abs() < 1e-5,
+                "W={w} rod {k}: {l:?} vs scalar {s:?}"
+            );
         }
         let (slow, slow_scalar) = (errors_after(w, 60)[3], errors_after(1, 60)[3]);
         println!("W={w} rod 3 after 60 solves: {slow:?} (scalar {slow_scalar:?})");
-        assert!(slow.0 < 0.5 * lanes[3].0 && (slow.0 - slow_scalar.0).abs() < 1e-5, "W={w} rod 3");
+        assert!(
+            slow.0 < 0.5 * lanes[3].0 && (slow.0 - slow_scalar.0).abs() < 1e-5,
+            "W={w} rod 3"
+        );
     }
-    println!("(initial worst: curve {:.2e} rad, length {:.2e} m)", initial.0, initial.1);
+    println!(
+        "(initial worst: curve {:.2e} rad, length {:.2e} m)",
+        initial.0, initial.1
+    );
 }
 
 #[test]

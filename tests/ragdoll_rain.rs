@@ -1,6 +1,6 @@
 //! The 1000-ragdoll rain (`scenes/ragdoll_rain.toml`): the scene builds, and the fall and the
 //! first impacts (2 s) run without NaN or explosion for both spines with every body centre
-//! above the floor, with the 4 substeps the scene is meant to have. The full 10 s is an ignored test:
+//! above the floor, with the scene's 4 substeps of 4 iterations. The full 10 s is an ignored test:
 //! `cargo test --release --test ragdoll_rain -- --ignored --nocapture`.
 
 use rodlab::ragdoll::SpineKind;
@@ -21,13 +21,11 @@ fn rain(spine: SpineKind, frames: u32) -> (World, f32) {
     .apply(&mut scene.def);
     let mut world = scene.build().unwrap();
     assert_eq!(world.ragdolls.len(), 1000);
-    // The scene's `# substeps = 4`, until the scene field exists. With one substep of 4
-    // iterations the pile presses forearms about 12 cm through the floor at the first impacts
-    // (measured: lowest centre -8.6 cm at frame 58, chain3), still finite; with 4 substeps the
-    // lowest centre stays just above it (+3 mm).
-    if world.settings.substeps == 1 {
-        world.settings.substeps = 4;
-    }
+    // The scene runs 4 substeps of 4 iterations. With one substep of 4 iterations the pile
+    // presses forearms about 12 cm through the floor at the first impacts (measured: lowest
+    // centre -8.6 cm at frame 58, chain3); 4 substeps of 1 or 2 iterations throw an elbow past
+    // 500 rad/s at the first impacts (frames 55-60).
+    assert_eq!((world.settings.substeps, world.settings.iterations), (4, 4));
     let mut lowest = f32::INFINITY;
     let mut observer = |w: &World, _: &rodlab::metrics::FrameMetrics| {
         for r in &w.ragdolls {
@@ -37,8 +35,8 @@ fn rain(spine: SpineKind, frames: u32) -> (World, f32) {
         }
     };
     let started = std::time::Instant::now();
-    let report = sim::run(&mut world, frames, &mut observer)
-        .unwrap_or_else(|e| panic!("{spine}: {e:#}"));
+    let report =
+        sim::run(&mut world, frames, &mut observer).unwrap_or_else(|e| panic!("{spine}: {e:#}"));
     let seconds = started.elapsed().as_secs_f64();
     let mean =
         report.total_dislocation_cm.iter().sum::<f32>() / report.total_dislocation_cm.len() as f32;

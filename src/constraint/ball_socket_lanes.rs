@@ -32,7 +32,10 @@ pub fn solve_lanes<L: Lane>(rows: &mut [JointRow], bodies: SharedBodies) {
     let mut index_a = [0u32; 8];
     let mut index_b = [0u32; 8];
     for (i, row) in rows.iter().enumerate() {
-        debug_assert_ne!(row.body_a, row.body_b, "a constraint needs two distinct bodies");
+        debug_assert_ne!(
+            row.body_a, row.body_b,
+            "a constraint needs two distinct bodies"
+        );
         index_a[i] = row.body_a;
         index_b[i] = row.body_b;
     }
@@ -77,7 +80,13 @@ fn solve_bodies<L: Lane>(rows: &[JointRow], a: &mut BodyLanes<L>, b: &mut BodyLa
         let swing_max = L::from_fn(|i| limit(i).map_or(f32::INFINITY, |l| l.swing_max));
         let twist_min = L::from_fn(|i| limit(i).map_or(f32::NEG_INFINITY, |l| l.twist_min));
         let twist_max = L::from_fn(|i| limit(i).map_or(f32::INFINITY, |l| l.twist_max));
-        let start_twist = L::from_fn(|i| if limit(i).is_some() { rows[i].start_twist } else { 0.0 });
+        let start_twist = L::from_fn(|i| {
+            if limit(i).is_some() {
+                rows[i].start_twist
+            } else {
+                0.0
+            }
+        });
         let frame_a = Q::from_fn(|i| rows[i].frame_a);
         let frame_b = Q::from_fn(|i| rows[i].frame_b);
 
@@ -99,7 +108,9 @@ fn solve_bodies<L: Lane>(rows: &[JointRow], a: &mut BodyLanes<L>, b: &mut BodyLa
         let unwrapped = start_twist + wrap_angle(twist - start_twist);
         let excess = unwrapped.gt(twist_max).select(
             unwrapped - twist_max,
-            unwrapped.lt(twist_min).select(unwrapped - twist_min, L::zero()),
+            unwrapped
+                .lt(twist_min)
+                .select(unwrapped - twist_min, L::zero()),
         );
         // `excess != 0` is the angle guard's business: a zero excess gives a zero rotation.
         relative_rotation(a, b, movable_a, movable_b, fb.x_axis().scale(-excess));
@@ -182,7 +193,11 @@ fn any_perpendicular<L: Lane>(v: V3<L>) -> V3<L> {
 /// `mask`; the other lanes keep their pose exactly.
 #[inline(always)]
 fn apply_positional<L: Lane>(body: &mut BodyLanes<L>, impulse: V3<L>, r: V3<L>, mask: L) {
-    body.position = V3::select(mask, body.position + impulse.scale(body.inverse_mass), body.position);
+    body.position = V3::select(
+        mask,
+        body.position + impulse.scale(body.inverse_mass),
+        body.position,
+    );
     let dtheta = body.inverse_inertia.mul_vec(r.cross(impulse));
     rotate_preview(body, dtheta, mask);
 }
@@ -288,9 +303,21 @@ fn point_block<L: Lane>(
 #[inline(always)]
 fn point_inverse_mass_matrix<L: Lane>(body: &BodyLanes<L>, r: V3<L>) -> SymM3<L> {
     let zero = L::zero();
-    let s0 = V3 { x: zero, y: r.z, z: -r.y };
-    let s1 = V3 { x: -r.z, y: zero, z: r.x };
-    let s2 = V3 { x: r.y, y: -r.x, z: zero };
+    let s0 = V3 {
+        x: zero,
+        y: r.z,
+        z: -r.y,
+    };
+    let s1 = V3 {
+        x: -r.z,
+        y: zero,
+        z: r.x,
+    };
+    let s2 = V3 {
+        x: r.y,
+        y: -r.x,
+        z: zero,
+    };
     let i = &body.inverse_inertia;
     let (t0, t1, t2) = (i.mul_vec(s0), i.mul_vec(s1), i.mul_vec(s2));
     let m = body.inverse_mass;

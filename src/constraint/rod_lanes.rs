@@ -121,14 +121,31 @@ pub fn solve_rod_lanes<L: Lane>(row: &RodLanes<L>, a: &mut BodyLanes<L>, b: &mut
     let psi = cross.length().atan2(ta.dot(tb));
     let (axis, _) = cross.normalize_or(ta.any_orthonormal(), TRY_NORMALIZE_EPS);
     let bend = row.alpha_bend.gt(zero) & psi.gt(L::splat(1e-7));
-    relative_rotation(a, b, movable_a, movable_b, bend, axis.scale(-row.alpha_bend * psi));
+    relative_rotation(
+        a,
+        b,
+        movable_a,
+        movable_b,
+        bend,
+        axis.scale(-row.alpha_bend * psi),
+    );
 
     // Soft twist (eq. 12-13): remove alpha_t of tau about t_b.
-    let (fa, fb) = (a.orientation.mul(row.frame_a), b.orientation.mul(row.frame_b));
+    let (fa, fb) = (
+        a.orientation.mul(row.frame_a),
+        b.orientation.mul(row.frame_b),
+    );
     let (ta, tb) = (fa.x_axis(), fb.x_axis());
     let tau = twist_exact(fa, fb, ta, tb);
     let twist = row.alpha_twist.gt(zero);
-    relative_rotation(a, b, movable_a, movable_b, twist, tb.scale(-row.alpha_twist * tau));
+    relative_rotation(
+        a,
+        b,
+        movable_a,
+        movable_b,
+        twist,
+        tb.scale(-row.alpha_twist * tau),
+    );
 
     // Hard curve (eq. 6), full gradient.
     let (ta, tb) = tangents(row, a, b);
@@ -250,7 +267,9 @@ pub fn rotation_arc<L: Lane>(from: V3<L>, to: V3<L>) -> Q<L> {
     let dot = from.dot(to);
     let c = from.cross(to);
     let w = L::splat(1.0) + dot;
-    let norm = (c.length_squared() + w * w).sqrt().max(L::splat(f32::MIN_POSITIVE));
+    let norm = (c.length_squared() + w * w)
+        .sqrt()
+        .max(L::splat(f32::MIN_POSITIVE));
     let inv = L::splat(1.0) / norm;
     let general = Q {
         x: c.x * inv,
@@ -300,7 +319,11 @@ pub fn curve_projection<L: Lane>(pa: V3<L>, ta: V3<L>, pb: V3<L>, tb: V3<L>) -> 
     let offset = pb - pa;
     let distance = offset.length();
     let far = distance.gt(L::splat(1e-12));
-    let o = V3::select(far, offset.scale(L::splat(1.0) / distance.max(L::splat(1e-12))), ta);
+    let o = V3::select(
+        far,
+        offset.scale(L::splat(1.0) / distance.max(L::splat(1e-12))),
+        ta,
+    );
     let two = L::splat(2.0);
     let reflect = |v: V3<L>| o.scale(two * v.dot(o)) - v;
     let r = reflect(ta);

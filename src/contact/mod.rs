@@ -66,6 +66,11 @@ pub struct ContactPoint {
 }
 
 impl ContactPoint {
+    /// Separation (m) of the two points along the normal at the current poses.
+    pub fn separation_at(&self, a: &Body, b: &Body) -> f32 {
+        (b.world_point(self.local_b) - a.world_point(self.local_a)).dot(self.normal)
+    }
+
     /// Separation (m) of the two points along the normal at the preview poses.
     pub fn separation(&self, a: &Body, b: &Body) -> f32 {
         (b.preview_point(self.local_b) - a.preview_point(self.local_a)).dot(self.normal)
@@ -127,8 +132,8 @@ pub struct Contacts {
     /// Last step's points, sorted by body pair, for their friction anchors.
     previous: Vec<ContactPoint>,
     broad_phase: BroadPhase,
-    features: Vec<Feature>,
     pairs: Vec<(u32, u32)>,
+    chunks: Vec<ChunkOut>,
     /// Bodies that never collide with body `i` (joined to it): `excluded[excluded_start[i]..
     /// excluded_start[i + 1]]`, a handful per body; and the constraint count they were built for.
     excluded: Vec<u32>,
@@ -151,66 +156,37 @@ impl Contacts {
         let pairs = &mut self.pairs;
         self.broad_phase
             .find_pairs(bodies, dt, margin, |a, b| pairs.push((a, b)));
-        for &(a, b) in &self.pairs {
-            let (first, last) = (a.min(b) as usize, a.max(b) as u32);
-            let range =
-                self.excluded_start[first] as usize..self.excluded_start[first + 1] as usize;
-            if self.excluded[range].contains(&last) {
-                continue;
-            }
-            let (body_a, body_b) = (&bodies[a as usize], &bodies[b as usize]);
-            if body_a.collision_group & body_b.collision_mask == 0
-                || body_b.collision_group & body_a.collision_mask == 0
-            {
-                continue;
-            }
-            let reach = margin + dt * (body_a.linear_velocity - body_b.linear_velocity).length();
-            self.features.clear();
-            if !narrowphase::collide(body_a, body_b, reach, &mut self.features) {
-                continue;
-            }
-            let static_friction = (body_a.static_friction * body_b.static_friction).sqrt();
-            let dynamic_friction = (body_a.dynamic_friction * body_b.dynamic_friction).sqrt();
-            let restitution = body_a.restitution.max(body_b.restitution);
-            let previous = {
-                let start = self
-                    .previous
-                    .partition_point(|p| (p.body_a.0, p.body_b.0) < (a, b));
-                let end = self
-                    .previous
-                    .partition_point(|p| (p.body_a.0, p.body_b.0) <= (a, b));
-                &self.previous[start..end]
-            };
-            for f in &self.features {
-                let local_a = body_a.orientation.inverse() * (f.point_a - body_a.position);
-                let local_b = body_b.orientation.inverse() * (f.point_b - body_b.position);
-                let kept = previous.iter().find(|p| {
-                    p.sticking
-                        && p.local_a.distance(local_a) < ANCHOR_REACH
-                        && p.local_b.distance(local_b) < ANCHOR_REACH
-                });
-                let (anchor_a, anchor_b) =
-                    kept.map_or((local_a, local_b), |p| (p.anchor_a, p.anchor_b));
-                self.points.push(ContactPoint {
-                    body_a: BodyId(a),
-                    body_b: BodyId(b),
-                    normal: f.normal,
-                    local_a,
-                    local_b,
-                    anchor_a,
-                    anchor_b,
-                    sticking: true,
-                    static_friction,
-                    dynamic_friction,
-                    restitution,
-                    approach_speed: relative_normal_velocity(
-                        body_a, body_b, f.point_a, f.point_b, f.normal,
-                    ),
-                    allowed_penetration: 0.0,
-                    normal_impulse: 0.0,
-                    friction_impulse: 0.0,
-                });
-            }
+        // Narrow phase: pairs in chunks, each into its own reused buffer, concatenated in
+        // pair order, so the points come out the same for any thread count.
+        let chunks = if rayon::current_num_threads() > 1 && self.pairs.len() >= PARALLEL_PAIRS {
+            4 * rayon::current_num_threads()
+        } else {
+            1
+        };
+        let chunk_len = self.pairs.len().div_ceil(chunks).max(1);
+        if self.chunks.len() < chunks {
+            self.chunks.resize_with(chunks, Default::default);
+        }
+        let found = PairContext {
+            bodies,
+            previous: &self.previous,
+            excluded: &self.excluded,
+            excluded_start: &self.excluded_start,
+            dt,
+            margin,
+        };
+        if chunks > 1 {
+            use rayon::prelude::*;
+            self.pairs
+                .par_chunks(chunk_len)
+                .zip(self.chunks.par_iter_mut())
+                .for_each(|(pairs, out)| found.collide_all(pairs, out));
+        } else {
+            found.collide_all(&self.pairs, &mut self.chunks[0]);
+        }
+        let used = self.pairs.len().div_ceil(chunk_len).max(1);
+        for out in &self.chunks[..used] {
+            self.points.extend_from_slice(&out.points);
         }
     }
 
@@ -253,14 +229,25 @@ impl Contacts {
     /// joint limit throws them (arms at 600 rad/s at 4 substeps, before the limit). A point not
     /// yet touching must not penetrate at all, so fast bodies still stop at the surface.
     pub fn begin_substep(&mut self, bodies: &[Body], h: f32, push_speed: f32) {
-        for point in &mut self.points {
-            let (a, b) = (&bodies[point.body_a.index()], &bodies[point.body_b.index()]);
-            let depth = -(b.world_point(point.local_b) - a.world_point(point.local_a)).dot(point.normal);
-            point.allowed_penetration = (depth - push_speed * h).max(0.0);
+        let start = |point: &mut ContactPoint| {
+            point.allowed_penetration = if push_speed.is_finite() {
+                let (a, b) = (&bodies[point.body_a.index()], &bodies[point.body_b.index()]);
+                let depth = -point.separation_at(a, b);
+                (depth - push_speed * h).max(0.0)
+            } else {
+                0.0
+            };
             point.normal_impulse = 0.0;
             point.friction_impulse = 0.0;
+        };
+        if self.points.len() >= PARALLEL_PAIRS && rayon::current_num_threads() > 1 {
+            use rayon::prelude::*;
+            self.points.par_iter_mut().for_each(start);
+        } else {
+            self.points.iter_mut().for_each(start);
         }
     }
+
 
     /// One iteration over all contact points.
     pub fn solve(&mut self, bodies: &mut [SolverBody]) {
@@ -316,4 +303,93 @@ fn relative_normal_velocity(a: &Body, b: &Body, point_a: Vec3, point_b: Vec3, no
         body.linear_velocity + body.angular_velocity.cross(point - body.position)
     };
     (velocity(b, point_b) - velocity(a, point_a)).dot(normal)
+}
+
+/// Pairs with at least this many candidates run the narrow phase on several threads.
+const PARALLEL_PAIRS: usize = 2048;
+
+/// One chunk's output of the narrow phase, reused from frame to frame.
+#[derive(Clone, Debug, Default)]
+struct ChunkOut {
+    points: Vec<ContactPoint>,
+    features: Vec<Feature>,
+}
+
+/// What the narrow phase of one pair reads.
+struct PairContext<'a> {
+    bodies: &'a [Body],
+    previous: &'a [ContactPoint],
+    excluded: &'a [u32],
+    excluded_start: &'a [u32],
+    dt: f32,
+    margin: f32,
+}
+
+impl PairContext<'_> {
+    /// The contact points of `pairs` (filtered, then the narrow phase) into `out`.
+    fn collide_all(&self, pairs: &[(u32, u32)], out: &mut ChunkOut) {
+        out.points.clear();
+        for &(a, b) in pairs {
+            let (first, last) = (a.min(b) as usize, a.max(b) as u32);
+            let range =
+                self.excluded_start[first] as usize..self.excluded_start[first + 1] as usize;
+            if self.excluded[range].contains(&last) {
+                continue;
+            }
+            let (body_a, body_b) = (&self.bodies[a as usize], &self.bodies[b as usize]);
+            if body_a.collision_group & body_b.collision_mask == 0
+                || body_b.collision_group & body_a.collision_mask == 0
+            {
+                continue;
+            }
+            let reach =
+                self.margin + self.dt * (body_a.linear_velocity - body_b.linear_velocity).length();
+            out.features.clear();
+            if !narrowphase::collide(body_a, body_b, reach, &mut out.features) {
+                continue;
+            }
+            let static_friction = (body_a.static_friction * body_b.static_friction).sqrt();
+            let dynamic_friction = (body_a.dynamic_friction * body_b.dynamic_friction).sqrt();
+            let restitution = body_a.restitution.max(body_b.restitution);
+            let previous = {
+                let start = self
+                    .previous
+                    .partition_point(|p| (p.body_a.0, p.body_b.0) < (a, b));
+                let end = self
+                    .previous
+                    .partition_point(|p| (p.body_a.0, p.body_b.0) <= (a, b));
+                &self.previous[start..end]
+            };
+            for f in &out.features {
+                let local_a = body_a.orientation.inverse() * (f.point_a - body_a.position);
+                let local_b = body_b.orientation.inverse() * (f.point_b - body_b.position);
+                let kept = previous.iter().find(|p| {
+                    p.sticking
+                        && p.local_a.distance(local_a) < ANCHOR_REACH
+                        && p.local_b.distance(local_b) < ANCHOR_REACH
+                });
+                let (anchor_a, anchor_b) =
+                    kept.map_or((local_a, local_b), |p| (p.anchor_a, p.anchor_b));
+                out.points.push(ContactPoint {
+                    body_a: BodyId(a),
+                    body_b: BodyId(b),
+                    normal: f.normal,
+                    local_a,
+                    local_b,
+                    anchor_a,
+                    anchor_b,
+                    sticking: true,
+                    static_friction,
+                    dynamic_friction,
+                    restitution,
+                    approach_speed: relative_normal_velocity(
+                        body_a, body_b, f.point_a, f.point_b, f.normal,
+                    ),
+                    allowed_penetration: 0.0,
+                    normal_impulse: 0.0,
+                    friction_impulse: 0.0,
+                });
+            }
+        }
+    }
 }

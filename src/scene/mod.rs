@@ -187,7 +187,8 @@ impl TileDef {
 
     /// The bodies this tile stands for.
     fn expand(&self) -> Vec<BodyDef> {
-        let mut out = Vec::with_capacity(self.body.len() * (self.repeat[0] * self.repeat[1]) as usize);
+        let mut out =
+            Vec::with_capacity(self.body.len() * (self.repeat[0] * self.repeat[1]) as usize);
         for i in 0..self.repeat[0] {
             for k in 0..self.repeat[1] {
                 for b in &self.body {
@@ -545,7 +546,11 @@ impl Scene {
     fn check_tiles(&self) -> Result<(), (Vec<Seg>, String)> {
         let d = &self.def;
         let at = |i: usize, field: &str| {
-            vec![Seg::Key("tile".into()), Seg::Index(i), Seg::Key(field.into())]
+            vec![
+                Seg::Key("tile".into()),
+                Seg::Index(i),
+                Seg::Key(field.into()),
+            ]
         };
         let mut tile_names: Vec<&str> = Vec::new();
         for (i, t) in d.tile.iter().enumerate() {
@@ -554,7 +559,10 @@ impl Scene {
             if t.repeat.contains(&0) {
                 return Err((
                     at(i, "repeat"),
-                    format!("copies along x and z must be at least 1, got {:?}", t.repeat),
+                    format!(
+                        "copies along x and z must be at least 1, got {:?}",
+                        t.repeat
+                    ),
                 ));
             }
             if t.spacing.iter().any(|s| !(*s > 0.0 && s.is_finite())) {
