@@ -99,7 +99,9 @@ impl Chart {
             let pixels: Vec<(f64, f64)> = series.points.iter().filter_map(to_pixel).collect();
             let point = |(x, y): &(f64, f64)| format!("{x:.1},{y:.1}");
             let points = pixels.iter().map(point).collect::<Vec<_>>().join(" ");
-            let style = format!(r#"fill="none" stroke="{colour}" stroke-width="2""#);
+            // past the eight colours, the same colours again with another dash pattern
+            let dash = ["", r#" stroke-dasharray="7 4""#, r#" stroke-dasharray="2 3""#][(i / PALETTE.len()) % 3];
+            let style = format!(r#"fill="none" stroke="{colour}" stroke-width="2"{dash}"#);
             svg.0 += &format!("<polyline points=\"{points}\" {style}/>\n");
             for (x, y) in pixels {
                 svg.0 += &format!(r#"<circle cx="{x:.1}" cy="{y:.1}" r="3.5" fill="{colour}"/>"#);
@@ -107,7 +109,14 @@ impl Chart {
             }
             // Legend entry: a colour swatch, then the label.
             let (x, y) = (RIGHT + 15.0, TOP + 22.0 * i as f64);
-            svg.rect((x, y), (14.0, 14.0), &format!(r#"fill="{colour}""#));
+            let swatch = format!(r#"stroke="{colour}" stroke-width="3"{dash}"#);
+            svg.0 += &format!(
+                "<line x1=\"{:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\" {swatch}/>\n",
+                x - 4.0,
+                y + 7.0,
+                x + 18.0,
+                y + 7.0
+            );
             svg.text((x + 22.0, y + 11.0), "", &shorten(&series.label));
         }
         svg.0 + "</svg>\n"

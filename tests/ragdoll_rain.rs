@@ -53,7 +53,7 @@ fn rain(spine: SpineKind, frames: u32) -> (World, f32) {
 #[test]
 fn the_scene_builds_a_thousand_ragdolls_and_its_world() {
     let scene = Scene::load(SCENE).unwrap();
-    assert_eq!(scene.def.ci_frames, Some(120));
+    assert_eq!(scene.def.ci_frames, Some(60));
     assert_eq!(scene.def.frames, 600);
     let world = scene.build().unwrap();
     assert_eq!(world.ragdolls.len(), 1000);
