@@ -54,7 +54,11 @@ impl SymMat3 {
 }
 
 /// One body as the iteration loop sees it: the preview pose x* of the current substep.
+///
+/// `repr(C)`, 96 bytes without padding, so the SIMD gather can read it as six groups of four
+/// floats and transpose them into lanes ([`crate::solver::lanes::BodyLanes::gather`]).
 #[derive(Clone, Copy, Debug, Default)]
+#[repr(C)]
 pub struct SolverBody {
     /// Preview orientation q* = exp(rotation_correction) predicted (to first order).
     pub orientation: Quat,
@@ -74,7 +78,26 @@ pub struct SolverBody {
     pub inverse_inertia: Mat3,
 }
 
+const _: () = assert!(std::mem::size_of::<SolverBody>() == 96);
+const _: () = assert!(std::mem::align_of::<SolverBody>() == 16);
+
 impl SolverBody {
+    /// The body as six groups of four floats: orientation, predicted, (position, inverse mass),
+    /// (rotation correction, inverse inertia's first entry), then the inertia's other eight.
+    #[inline(always)]
+    pub fn as_quads(&self) -> &[[f32; 4]; 6] {
+        // SAFETY: repr(C), 96 bytes of f32 fields without padding (asserted above); Quat and
+        // Vec3 are plain f32 components.
+        unsafe { &*(self as *const SolverBody as *const [[f32; 4]; 6]) }
+    }
+
+    /// [`SolverBody::as_quads`], to write.
+    #[inline(always)]
+    pub fn as_quads_mut(&mut self) -> &mut [[f32; 4]; 6] {
+        // SAFETY: as for `as_quads`; every bit pattern is a valid f32.
+        unsafe { &mut *(self as *mut SolverBody as *mut [[f32; 4]; 6]) }
+    }
+
     /// The body at its preview pose, as [`Body`] holds it.
     pub fn from_body(body: &Body) -> Self {
         let mut s = SolverBody {

@@ -11,9 +11,52 @@ use super::body::{SharedBodies, SymMat3};
 use crate::math::{Quat, Vec3};
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Sub};
 
+/// Groups of four floats of `W` records turned into four lanes, and back: the transpose that
+/// gathers bodies into lanes (one SSE shuffle network for W = 4).
+pub trait Transpose4: Sized {
+    /// `out[j]` lane i = `rows[i][j]`, for `rows.len() == W`.
+    fn transpose4(rows: &[[f32; 4]; 8]) -> [Self; 4];
+    /// `rows[i][j]` = lane i of `cols[j]`.
+    fn untranspose4(cols: [Self; 4]) -> [[f32; 4]; 8];
+}
+
+impl Transpose4 for wide::f32x4 {
+    #[inline(always)]
+    fn transpose4(rows: &[[f32; 4]; 8]) -> [Self; 4] {
+        wide::f32x4::transpose([
+            wide::f32x4::new(rows[0]),
+            wide::f32x4::new(rows[1]),
+            wide::f32x4::new(rows[2]),
+            wide::f32x4::new(rows[3]),
+        ])
+    }
+    #[inline(always)]
+    fn untranspose4(cols: [Self; 4]) -> [[f32; 4]; 8] {
+        let t = wide::f32x4::transpose(cols);
+        let mut out = [[0.0; 4]; 8];
+        for (o, v) in out.iter_mut().zip(t) {
+            *o = v.to_array();
+        }
+        out
+    }
+}
+
+impl Transpose4 for wide::f32x8 {
+    #[inline(always)]
+    fn transpose4(rows: &[[f32; 4]; 8]) -> [Self; 4] {
+        std::array::from_fn(|j| wide::f32x8::new(std::array::from_fn(|i| rows[i][j])))
+    }
+    #[inline(always)]
+    fn untranspose4(cols: [Self; 4]) -> [[f32; 4]; 8] {
+        let cols = cols.map(|c| c.to_array());
+        std::array::from_fn(|i| std::array::from_fn(|j| cols[j][i]))
+    }
+}
+
 /// A float vector of `W` lanes. Comparisons return masks (all bits set per true lane).
 pub trait Lane:
-    Copy
+    Transpose4
+    + Copy
     + Send
     + Sync
     + Add<Output = Self>
@@ -435,21 +478,46 @@ impl<L: Lane> BodyLanes<L> {
         for (i, copy) in copies.iter_mut().enumerate().take(L::W) {
             *copy = bodies.read(index[i]);
         }
-        let b = |i: usize| &copies[i];
-        let m = |i: usize| b(i).inverse_inertia;
+        // group k of every body, transposed: four fields in lanes
+        let group = |k: usize| {
+            let rows: [[f32; 4]; 8] = std::array::from_fn(|i| copies[i].as_quads()[k]);
+            L::transpose4(&rows)
+        };
+        let [qx, qy, qz, qw] = group(0);
+        let [px, py, pz, pw] = group(1);
+        let [x, y, z, inverse_mass] = group(2);
+        let [cx, cy, cz, xx] = group(3);
+        // column-major Mat3 of a symmetric matrix: (x_axis.y, x_axis.z, y_axis.x, y_axis.y)
+        let [xy, xz, _, yy] = group(4);
+        // (y_axis.z, z_axis.x, z_axis.y, z_axis.z)
+        let [yz, _, _, zz] = group(5);
         BodyLanes {
-            position: V3::from_fn(|i| b(i).position),
-            orientation: Q::from_fn(|i| b(i).orientation),
-            predicted: Q::from_fn(|i| b(i).predicted),
-            rotation_correction: V3::from_fn(|i| b(i).rotation_correction),
-            inverse_mass: L::from_fn(|i| b(i).inverse_mass),
+            position: V3 { x, y, z },
+            orientation: Q {
+                x: qx,
+                y: qy,
+                z: qz,
+                w: qw,
+            },
+            predicted: Q {
+                x: px,
+                y: py,
+                z: pz,
+                w: pw,
+            },
+            rotation_correction: V3 {
+                x: cx,
+                y: cy,
+                z: cz,
+            },
+            inverse_mass,
             inverse_inertia: SymM3 {
-                xx: L::from_fn(|i| m(i).x_axis.x),
-                yy: L::from_fn(|i| m(i).y_axis.y),
-                zz: L::from_fn(|i| m(i).z_axis.z),
-                xy: L::from_fn(|i| m(i).y_axis.x),
-                xz: L::from_fn(|i| m(i).z_axis.x),
-                yz: L::from_fn(|i| m(i).z_axis.y),
+                xx,
+                yy,
+                zz,
+                xy,
+                xz,
+                yz,
             },
         }
     }
@@ -461,14 +529,21 @@ impl<L: Lane> BodyLanes<L> {
     /// The movable bodies among `index` must be this batch's alone (see [`SharedBodies`]).
     #[inline(always)]
     pub unsafe fn scatter(&self, bodies: SharedBodies, index: &[u32]) {
+        let o = self.orientation;
+        let orientation = L::untranspose4([o.x, o.y, o.z, o.w]);
+        let p = self.position;
+        let position = L::untranspose4([p.x, p.y, p.z, self.inverse_mass]);
+        let c = self.rotation_correction;
+        let correction = L::untranspose4([c.x, c.y, c.z, self.inverse_inertia.xx]);
         for (i, &k) in index.iter().enumerate().take(L::W) {
             if bodies.read(k).inverse_mass == 0.0 {
                 continue;
             }
-            let body = bodies.get_mut(k);
-            body.position = self.position.lane(i);
-            body.orientation = self.orientation.lane(i);
-            body.rotation_correction = self.rotation_correction.lane(i);
+            let quads = bodies.get_mut(k).as_quads_mut();
+            quads[0] = orientation[i];
+            // the 4th floats are the body's own inverse mass and inertia entry, unchanged
+            quads[2] = position[i];
+            quads[3] = correction[i];
         }
     }
 
