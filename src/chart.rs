@@ -100,7 +100,11 @@ impl Chart {
             let point = |(x, y): &(f64, f64)| format!("{x:.1},{y:.1}");
             let points = pixels.iter().map(point).collect::<Vec<_>>().join(" ");
             // past the eight colours, the same colours again with another dash pattern
-            let dash = ["", r#" stroke-dasharray="7 4""#, r#" stroke-dasharray="2 3""#][(i / PALETTE.len()) % 3];
+            let dash = [
+                "",
+                r#" stroke-dasharray="7 4""#,
+                r#" stroke-dasharray="2 3""#,
+            ][(i / PALETTE.len()) % 3];
             let style = format!(r#"fill="none" stroke="{colour}" stroke-width="2"{dash}"#);
             svg.0 += &format!("<polyline points=\"{points}\" {style}/>\n");
             for (x, y) in pixels {

@@ -248,7 +248,6 @@ impl Contacts {
         }
     }
 
-
     /// One iteration over all contact points.
     pub fn solve(&mut self, bodies: &mut [SolverBody]) {
         for point in &mut self.points {
@@ -330,7 +329,7 @@ impl PairContext<'_> {
     fn collide_all(&self, pairs: &[(u32, u32)], out: &mut ChunkOut) {
         out.points.clear();
         for &(a, b) in pairs {
-            let (first, last) = (a.min(b) as usize, a.max(b) as u32);
+            let (first, last) = (a.min(b) as usize, a.max(b));
             let range =
                 self.excluded_start[first] as usize..self.excluded_start[first + 1] as usize;
             if self.excluded[range].contains(&last) {

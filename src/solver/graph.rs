@@ -74,7 +74,7 @@ impl Colouring {
     pub fn colour<T: Copy>(
         &mut self,
         order: Order,
-        rows: &mut Vec<T>,
+        rows: &mut [T],
         scratch: &mut Vec<T>,
         colours: &mut Colours,
         movable: &[bool],

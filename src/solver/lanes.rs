@@ -354,6 +354,7 @@ impl<L: Lane> Q<L> {
     }
     /// Hamilton product `self * o`.
     #[inline(always)]
+    #[allow(clippy::should_implement_trait)]
     pub fn mul(self, o: Self) -> Self {
         Q {
             x: self.w * o.x + self.x * o.w + self.y * o.z - self.z * o.y,

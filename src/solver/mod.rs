@@ -314,7 +314,7 @@ pub const SIMD_WIDTH: usize = 4;
 /// kernel takes them one by one, the SIMD kernel [`SIMD_WIDTH`] at a time (a remainder one by
 /// one); a large colour is split into chunks across threads. The overflow colour is always
 /// sequential.
-fn solve_colours<T: Send>(
+fn solve_colours<T: Send + RowBodies>(
     rows: &mut [T],
     colours: &Colours,
     bodies: SharedBodies,
@@ -322,9 +322,7 @@ fn solve_colours<T: Send>(
     parallel: bool,
     one: impl Fn(&mut T, &mut SolverBody, &mut SolverBody) + Sync,
     batch: BatchKernel<T>,
-) where
-    T: RowBodies,
-{
+) {
     let solve_chunk = |chunk: &mut [T]| {
         let mut rest: &mut [T] = chunk;
         if kind == SolverKind::Simd {
