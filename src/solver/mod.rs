@@ -56,6 +56,9 @@ use rayon::prelude::*;
 /// below it the hand-off costs more than it saves.
 pub const PARALLEL_MIN_ROWS: usize = 256;
 
+/// Fixed-point passes of the gyroscopic update, at most.
+pub const GYROSCOPIC_PASSES: u32 = 4;
+
 /// Bodies integrated per parallel task.
 const BODY_CHUNK: usize = 512;
 
@@ -388,7 +391,13 @@ fn integrate_velocity(body: &mut Body, settings: &Settings, h: f32) {
         return;
     }
     body.linear_velocity += h * (settings.gravity + body.external_force * body.inverse_mass);
-    body.angular_velocity = gyroscopic_update(body, h) / (1.0 + h * settings.angular_damping);
+    // Substeps stop the fixed point once it has converged to rounding (one or two passes at
+    // h = dt/4); one step a frame keeps its four passes, bit for bit the reference. The implicit
+    // Newton step alone would cost a fifth as much but lets a free spinning brick lose 1.4% of
+    // its angular momentum over 10 s at 4 substeps.
+    let converged = if settings.substeps > 1 { 1e-6 } else { 0.0 };
+    body.angular_velocity =
+        gyroscopic_update(body, h, converged) / (1.0 + h * settings.angular_damping);
     body.linear_velocity /= 1.0 + h * settings.linear_damping;
 }
 
@@ -442,8 +451,9 @@ fn commit_pose(body: &mut Body, hot: &SolverBody, h: f32) {
 /// (Catto, GDC 2015). At the fixed point a free body's angular momentum is conserved exactly
 /// (see `tests/conservation.rs` for the tolerance measured). If the iteration does not contract
 /// (a very fast spin of a very elongated body at a long time step), the Newton step is kept: it is
-/// unconditionally stable and only slightly dissipative.
-pub fn gyroscopic_update(body: &Body, dt: f32) -> Vec3 {
+/// unconditionally stable and only slightly dissipative. The iteration stops early once a pass
+/// changes `w` by less than `converged` times its length (0: always four passes).
+pub fn gyroscopic_update(body: &Body, dt: f32, converged: f32) -> Vec3 {
     let q = body.orientation;
     let w = q.inverse() * body.angular_velocity;
     let inertia = Mat3::from_diagonal(body.inertia);
@@ -457,7 +467,7 @@ pub fn gyroscopic_update(body: &Body, dt: f32) -> Vec3 {
     let inverse_inertia = body.inertia.recip();
     let mut current = newton;
     let mut last_change = f32::INFINITY;
-    for _ in 0..4 {
+    for _ in 0..GYROSCOPIC_PASSES {
         let next = inverse_inertia * (quat_from_rotation_vector(-dt * current) * momentum);
         let change = (next - current).length();
         if !(change < last_change) {
@@ -465,6 +475,9 @@ pub fn gyroscopic_update(body: &Body, dt: f32) -> Vec3 {
         }
         current = next;
         last_change = change;
+        if converged > 0.0 && change <= converged * current.length() {
+            break;
+        }
     }
     q * current
 }
