@@ -1,0 +1,100 @@
+//! Contact points W at a time (`contact::lanes`) against the scalar `ContactPoint::solve`: the
+//! same bodies after one projection to rounding, for points that penetrate and slide (normal
+//! push and friction, sticking and sliding), points still apart, and a static floor shared by
+//! every lane.
+
+use rodlab::body::{Body, BodyKind};
+use rodlab::contact::{lanes, ContactPoint, Contacts};
+use rodlab::math::{Quat, Vec3};
+use rodlab::shape::{Axis, Shape};
+use rodlab::solver::body::{pair_mut, SharedBodies, SolverBody};
+
+/// Eight capsules just above a floor, each tilted and spinning a little; their first contact
+/// point each (found speculatively), and the solver bodies moved to a preview that penetrates
+/// and slides by `slide` (m).
+fn setup(slide: f32) -> (Vec<SolverBody>, Vec<ContactPoint>) {
+    let mut bodies = vec![Body::new("floor", BodyKind::Fixed, Shape::HalfSpace, 1.0)];
+    for i in 0..8 {
+        let x = i as f32;
+        let shape = Shape::Capsule {
+            half_height: 0.2,
+            radius: 0.05,
+            axis: Axis::X,
+        };
+        let mut body = Body::new(format!("c{i}"), BodyKind::Dynamic, shape, 1.0 + 0.3 * x)
+            .with_pose(
+                Vec3::new(x, 0.06, 0.0),
+                Quat::from_rotation_z(0.05 * (x - 3.0)) * Quat::from_rotation_x(0.2 * x),
+            );
+        body.linear_velocity = Vec3::new(0.3 * (x - 4.0), -1.0, 0.1 * x);
+        body.static_friction = 0.2 + 0.1 * x;
+        body.dynamic_friction = 0.15 + 0.08 * x;
+        bodies.push(body);
+    }
+    let mut contacts = Contacts::default();
+    contacts.detect(&bodies, &[], 1.0 / 60.0, 0.05);
+    let mut points: Vec<ContactPoint> = Vec::new();
+    for p in &contacts.points {
+        if !points.iter().any(|q| q.body_b == p.body_b) {
+            points.push(*p);
+        }
+    }
+    assert_eq!(points.len(), 8, "one point per capsule");
+    let mut solver: Vec<SolverBody> = bodies.iter().map(SolverBody::from_body).collect();
+    for (i, body) in solver.iter_mut().enumerate().skip(1) {
+        // lanes 0-1 stay apart (no push), the others penetrate by up to 3 cm
+        let depth = if i <= 2 { -0.05 } else { 0.005 * i as f32 - 0.01 };
+        body.position += Vec3::new(slide * (i as f32 - 4.0), -0.01 - depth, 0.3 * slide);
+    }
+    (solver, points)
+}
+
+fn compare(slide: f32) {
+    let (bodies, points) = setup(slide);
+    let mut scalar = bodies.clone();
+    let mut scalar_points = points.clone();
+    for p in &mut scalar_points {
+        let (a, b) = pair_mut(&mut scalar, p.body_a.index(), p.body_b.index());
+        let (mut fa, mut fb) = (*a, *b);
+        p.solve(&mut fa, &mut fb);
+        // the floor is immovable: the scalar solve leaves it as it was
+        *b = fb;
+    }
+    for width in [4usize, 8] {
+        let mut lanes_bodies = bodies.clone();
+        let mut lanes_points = points.clone();
+        let shared = SharedBodies::new(&mut lanes_bodies);
+        for chunk in lanes_points.chunks_exact_mut(width) {
+            if width == 4 {
+                lanes::solve_lanes::<wide::f32x4>(chunk, shared);
+            } else {
+                lanes::solve_lanes::<wide::f32x8>(chunk, shared);
+            }
+        }
+        let (mut position, mut orientation) = (0.0f32, 0.0f32);
+        for (x, y) in scalar.iter().zip(&lanes_bodies) {
+            position = position.max(x.position.distance(y.position));
+            orientation = orientation.max((x.orientation - y.orientation).length());
+        }
+        let moved = bodies
+            .iter()
+            .zip(&scalar)
+            .map(|(x, y)| x.position.distance(y.position))
+            .fold(0.0, f32::max);
+        println!("slide {slide}, W={width}: position {position:.1e} m, orientation {orientation:.1e} (the solve moved bodies up to {moved:.3} m)");
+        assert!(moved > 1e-3, "the setup must make the solve work");
+        assert!(position < 1e-5, "W={width}: positions {position} m apart");
+        assert!(orientation < 1e-4, "W={width}: orientations {orientation} apart");
+        assert_eq!(lanes_bodies[0].position, bodies[0].position, "the floor moved");
+    }
+}
+
+#[test]
+fn sticking_points_agree_with_the_scalar_solve() {
+    compare(0.001);
+}
+
+#[test]
+fn sliding_points_agree_with_the_scalar_solve() {
+    compare(0.05);
+}
