@@ -27,8 +27,9 @@ fn drop_step(c: &mut Criterion) {
             ..Default::default()
         }
         .apply(&mut variant.def);
-        let mut world = variant.build().unwrap();
-        sim::run(&mut world, 150, &mut NoObserver).unwrap(); // 2.5 s: the lower layers have landed
+        let mut lab = variant.build().unwrap();
+        sim::run(&mut lab, 150, &mut NoObserver).unwrap(); // 2.5 s: the lower layers have landed
+        let world = lab.world;
         group.bench_function(spine.to_string(), |b| {
             b.iter_batched_ref(
                 || world.clone(),

@@ -273,8 +273,9 @@ fn passive_bending_step(c: &mut Criterion) {
             ..Default::default()
         }
         .apply(&mut variant.def);
-        let mut world = variant.build().unwrap();
-        sim::run(&mut world, 30, &mut NoObserver).unwrap(); // get it moving
+        let mut lab = variant.build().unwrap();
+        sim::run(&mut lab, 30, &mut NoObserver).unwrap(); // get it moving
+        let world = lab.world;
         group.bench_function(label, |b| {
             b.iter_batched_ref(
                 || world.clone(),

@@ -11,12 +11,13 @@ use clap::{
 };
 
 use crate::constraint::{JointFlavour, TwistMode};
+use crate::lab::Lab;
 use crate::metrics::FrameMetrics;
 use crate::ragdoll::SpineKind;
 use crate::record::{self, Recorder};
 use crate::scene::Scene;
 use crate::sim::{self, Observer, Overrides, RunReport};
-use crate::world::{SimulationError, SolverKind, World};
+use crate::world::{SimulationError, SolverKind};
 
 #[derive(Debug, Parser)]
 #[command(
@@ -323,24 +324,22 @@ struct LazyRecorder {
 }
 
 impl Observer for LazyRecorder {
-    fn begin(&mut self, world: &World, metrics: &FrameMetrics) -> anyhow::Result<()> {
+    fn begin(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()> {
         let rec = record::save_to(&self.path, &self.scene)?;
-        let recorder = self
-            .recorder
-            .insert(Recorder::new(rec, world, &self.scene)?);
-        recorder.begin(world, metrics)
+        let recorder = self.recorder.insert(Recorder::new(rec, lab, &self.scene)?);
+        recorder.begin(lab, metrics)
     }
 
-    fn frame(&mut self, world: &World, metrics: &FrameMetrics) -> anyhow::Result<()> {
+    fn frame(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()> {
         match &mut self.recorder {
-            Some(recorder) => recorder.frame(world, metrics),
+            Some(recorder) => recorder.frame(lab, metrics),
             None => Ok(()),
         }
     }
 
-    fn failed(&mut self, world: &World, error: &SimulationError) {
+    fn failed(&mut self, lab: &Lab, error: &SimulationError) {
         if let Some(recorder) = &mut self.recorder {
-            recorder.failed(world, error);
+            recorder.failed(lab, error);
         }
     }
 }
@@ -608,13 +607,13 @@ pub fn record_scene(scene: &Scene, rec: rerun::RecordingStream) -> anyhow::Resul
             step_seconds: 0.0,
         });
     }
-    let mut world = scene.build()?;
-    let mut recorder = Recorder::new(rec, &world, scene)?;
+    let mut lab = scene.build()?;
+    let mut recorder = Recorder::new(rec, &lab, scene)?;
     let mut observer = RowPrinter {
         inner: &mut recorder,
         every: scene.def.report_every,
     };
-    sim::run(&mut world, scene.def.frames, &mut observer)
+    sim::run(&mut lab, scene.def.frames, &mut observer)
         .with_context(|| format!("{}: simulation stopped", scene.path.display()))
 }
 
@@ -625,23 +624,23 @@ struct RowPrinter<'a> {
 }
 
 impl Observer for RowPrinter<'_> {
-    fn begin(&mut self, world: &World, metrics: &FrameMetrics) -> anyhow::Result<()> {
+    fn begin(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()> {
         if self.every > 0 {
             println!(
                 "  {:>6} {:>8} {:<14} {:>10} {:>10} {:>14}",
                 "frame", "time s", "ragdoll", "disl. cm", "ang. rad", "pose dev. cm"
             );
         }
-        self.inner.begin(world, metrics)
+        self.inner.begin(lab, metrics)
     }
 
-    fn frame(&mut self, world: &World, metrics: &FrameMetrics) -> anyhow::Result<()> {
-        if self.every > 0 && world.frame % self.every as u64 == 0 {
-            for (ragdoll, r) in world.ragdolls.iter().zip(&metrics.ragdolls) {
+    fn frame(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()> {
+        if self.every > 0 && lab.world.frame % self.every as u64 == 0 {
+            for (ragdoll, r) in lab.ragdolls.iter().zip(&metrics.ragdolls) {
                 println!(
                     "  {:>6} {:>8.3} {:<14} {:>10.4} {:>10.5} {:>14.4}",
-                    world.frame,
-                    world.time,
+                    lab.world.frame,
+                    lab.world.time,
                     ragdoll.name,
                     r.dislocation_cm,
                     r.angular_rad,
@@ -649,11 +648,11 @@ impl Observer for RowPrinter<'_> {
                 );
             }
         }
-        self.inner.frame(world, metrics)
+        self.inner.frame(lab, metrics)
     }
 
-    fn failed(&mut self, world: &World, error: &SimulationError) {
-        self.inner.failed(world, error)
+    fn failed(&mut self, lab: &Lab, error: &SimulationError) {
+        self.inner.failed(lab, error)
     }
 }
 
@@ -781,13 +780,13 @@ fn print_comparison(name_a: &str, a: &RunReport, name_b: &str, b: &RunReport) {
 fn check(paths: &[PathBuf]) -> anyhow::Result<()> {
     for path in paths {
         let scene = Scene::load(path)?;
-        let world = scene.build()?;
+        let lab = scene.build()?;
         println!(
             "{}: ok ({} bodies, {} constraints, {} ragdolls, {} frames at dt {} s, {} substep(s) x {} iterations, {} solver)",
             path.display(),
-            world.bodies.len(),
-            world.constraints.len(),
-            world.ragdolls.len(),
+            lab.world.bodies.len(),
+            lab.world.constraints.len(),
+            lab.ragdolls.len(),
             scene.def.frames,
             scene.def.dt,
             scene.def.substeps,

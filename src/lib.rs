@@ -1,9 +1,9 @@
 //! rodlab: the SCA 2013 paper *Rod Constraints for Simplified Ragdolls* as a physics lab.
 //!
 //! ```text
-//! scene file (TOML) -> scene::Scene::build -> World { bodies, constraints, settings }
+//! scene file (TOML) -> scene::Scene::build -> Lab { world: World (physics only), ragdolls }
 //!                                                |
-//!                        solver::step (fixed iterations, no rerun, no allocation)
+//!                        solver::step(world) (fixed iterations, no rerun, no allocation)
 //!                                                |
 //!                        metrics (residuals, energies)  ->  sim::run (the loop)
 //!                                                |
@@ -16,9 +16,11 @@
 //! - [`constraint`]: one file per constraint kind, dispatched by one `match`;
 //! - [`contact`]: broad phase, narrow phase and contact points with friction;
 //! - [`solver`]: the step, its order written as a numbered list;
-//! - [`world`]: bodies + constraints + settings, failure detection;
+//! - [`world`]: bodies + constraints + contacts + settings, failure detection; physics only;
 //! - [`ragdoll`]: the reference humanoid builder (spines chain3 | single | rod);
 //! - [`skeleton`]: the animation bones posed back from the physics (§6);
+//! - [`lab`]: the world plus what the experiments measure and draw (ragdolls, their skeletons
+//!   and target poses); what scenes build and the run loop, metrics and recorder take;
 //! - [`scene`]: TOML scene definitions and their checks;
 //! - [`kinematics`]: chain-versus-rod end loci (Fig. 6);
 //! - [`metrics`]: residual dislocation (cm) and angular violation (rad), energy;
@@ -33,6 +35,7 @@ pub mod cli;
 pub mod constraint;
 pub mod contact;
 pub mod kinematics;
+pub mod lab;
 pub mod math;
 pub mod metrics;
 /// Rapier as a peer engine for the sweep (feature `rapier`).

@@ -7,6 +7,7 @@
 //!   length error and chest-end gap (cm).
 
 use crate::constraint::{Constraint, RodState, Violation};
+use crate::lab::Lab;
 use crate::ragdoll::Ragdoll;
 use crate::skeleton::{BoneError, BoneMethod};
 use crate::world::World;
@@ -41,7 +42,7 @@ pub fn ragdoll_residual(world: &World, ragdoll: &Ragdoll) -> Residual {
 /// Everything measured on one frame.
 #[derive(Clone, Debug, Default)]
 pub struct FrameMetrics {
-    /// One per ragdoll, in `world.ragdolls` order.
+    /// One per ragdoll, in `lab.ragdolls` order.
     pub ragdolls: Vec<Residual>,
     pub kinetic_energy: f32,
     pub potential_energy: f32,
@@ -54,11 +55,12 @@ pub struct FrameMetrics {
 }
 
 impl FrameMetrics {
-    /// Measures `world` into `self`, reusing its storage.
-    pub fn measure(&mut self, world: &World) {
+    /// Measures `lab` into `self`, reusing its storage.
+    pub fn measure(&mut self, lab: &Lab) {
+        let world = &lab.world;
         self.ragdolls.clear();
         self.ragdolls
-            .extend(world.ragdolls.iter().map(|r| ragdoll_residual(world, r)));
+            .extend(lab.ragdolls.iter().map(|r| ragdoll_residual(world, r)));
         self.kinetic_energy = world.kinetic_energy();
         self.potential_energy = world.potential_energy();
         self.max_penetration_cm = 100.0 * world.contacts.max_penetration(&world.bodies);
@@ -70,7 +72,7 @@ impl FrameMetrics {
             }
         }
         self.bones.clear();
-        for (i, ragdoll) in world.ragdolls.iter().enumerate() {
+        for (i, ragdoll) in lab.ragdolls.iter().enumerate() {
             if let Some(skeleton) = &ragdoll.skeleton {
                 for &method in skeleton.methods() {
                     let bones = skeleton.pose(world, method);

@@ -53,6 +53,7 @@ use rapier3d::prelude::{
 
 use crate::body::{Body, BodyKind};
 use crate::constraint::{BallSocket, Constraint};
+use crate::lab::Lab;
 use crate::math::{Quat, Vec3};
 use crate::ragdoll::SpineKind;
 use crate::scene::Scene;
@@ -153,15 +154,15 @@ pub fn run(scene: &Scene, iterations: u32, repeats: u32) -> anyhow::Result<Sweep
         iterations,
     );
     crate::sweep::time_and_measure(row, def.frames, repeats, || {
-        let world = scene.build()?;
-        let peer = RapierWorld::new(&world, iterations)?;
-        Ok(PeerRun { world, peer })
+        let lab = scene.build()?;
+        let peer = RapierWorld::new(&lab.world, iterations)?;
+        Ok(PeerRun { lab, peer })
     })
 }
 
-/// A Rapier world and the rodlab world its poses are copied into for measuring.
+/// A Rapier world and the rodlab lab its poses are copied into for measuring.
 struct PeerRun {
-    world: World,
+    lab: Lab,
     peer: RapierWorld,
 }
 
@@ -170,15 +171,16 @@ impl crate::sweep::Timed for PeerRun {
         let start = Instant::now();
         self.peer.step();
         let elapsed = start.elapsed().as_secs_f64() * 1e6;
-        self.peer.write_back(&mut self.world);
-        self.world
+        self.peer.write_back(&mut self.lab.world);
+        self.lab
+            .world
             .check_health()
             .map(|()| elapsed)
             .map_err(|e| e.to_string())
     }
 
-    fn measured(&self) -> &World {
-        &self.world
+    fn measured(&self) -> &Lab {
+        &self.lab
     }
 }
 

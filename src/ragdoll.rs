@@ -429,7 +429,9 @@ fn v2(c: [f32; 2]) -> Vec3 {
     Vec3::new(c[0], c[1], 0.0)
 }
 
-/// Builds the humanoid into `world`. Errors name the unknown joint or part.
+/// Builds the humanoid's bodies and constraints into `world` and returns the ragdoll that groups
+/// them (the caller keeps it, usually in a [`crate::lab::Lab`]). Errors name the unknown joint
+/// or part.
 pub fn build_humanoid(world: &mut World, spec: &HumanoidSpec) -> Result<Ragdoll, String> {
     let spine = spec.spine;
     let known_joints = joint_names(spine);
@@ -585,7 +587,7 @@ pub fn build_humanoid(world: &mut World, spec: &HumanoidSpec) -> Result<Ragdoll,
         })
         .collect();
     let rod = (spine == SpineKind::Rod).then_some(first_constraint);
-    let ragdoll = Ragdoll {
+    Ok(Ragdoll {
         name: spec.name.clone(),
         spine,
         bodies: first_body..world.bodies.len(),
@@ -595,7 +597,5 @@ pub fn build_humanoid(world: &mut World, spec: &HumanoidSpec) -> Result<Ragdoll,
             .iter()
             .map(|b| b.position)
             .collect(),
-    };
-    world.ragdolls.push(ragdoll.clone());
-    Ok(ragdoll)
+    })
 }

@@ -27,6 +27,7 @@ use rerun::RecordingStream;
 
 use crate::body::BodyId;
 use crate::constraint::Constraint;
+use crate::lab::Lab;
 use crate::math::{Quat, Vec3};
 use crate::metrics::FrameMetrics;
 use crate::ragdoll::SpineKind;
@@ -107,7 +108,7 @@ struct BodyBatch {
     rotations: Vec<rerun::Quaternion>,
 }
 
-/// Streams a world into a Rerun recording; plugs into [`crate::sim::run`] as its observer.
+/// Streams a lab (its world and ragdolls) into a Rerun recording; plugs into [`crate::sim::run`] as its observer.
 pub struct Recorder {
     rec: RecordingStream,
     options: RecordDef,
@@ -130,11 +131,8 @@ const CENTERLINE_SAMPLES: usize = 24;
 /// Material frames drawn along each rod.
 const FRAME_SAMPLES: usize = 7;
 
-fn group_of(world: &World, body: BodyId) -> String {
-    world
-        .ragdolls
-        .iter()
-        .find(|r| r.bodies.contains(&body.index()))
+fn group_of(lab: &Lab, body: BodyId) -> String {
+    lab.ragdoll_of(body)
         .map_or_else(|| "props".to_string(), |r| r.name.clone())
 }
 
@@ -148,7 +146,8 @@ fn spine_color(spine: SpineKind) -> rerun::Color {
 }
 
 impl Recorder {
-    pub fn new(rec: RecordingStream, world: &World, scene: &Scene) -> anyhow::Result<Self> {
+    pub fn new(rec: RecordingStream, lab: &Lab, scene: &Scene) -> anyhow::Result<Self> {
+        let world = &lab.world;
         rec.set_log_time_enabled(false);
         let mut batches: Vec<BodyBatch> = Vec::new();
         for (i, body) in world.bodies.iter().enumerate() {
@@ -159,7 +158,7 @@ impl Recorder {
                 Shape::Cuboid { .. } => "boxes",
                 Shape::HalfSpace => continue, // static, drawn once in `log_static`
             };
-            let entity = format!("world/{}/{kind}", group_of(world, id));
+            let entity = format!("world/{}/{kind}", group_of(lab, id));
             let offset = match body.shape {
                 Shape::Capsule {
                     half_height, axis, ..
@@ -186,7 +185,7 @@ impl Recorder {
         let mut joint_groups: Vec<(String, Vec<usize>)> = Vec::new();
         for (i, c) in world.constraints.iter().enumerate() {
             if matches!(c, Constraint::BallSocket(_)) {
-                let entity = format!("world/{}/joints", group_of(world, c.bodies().0));
+                let entity = format!("world/{}/joints", group_of(lab, c.bodies().0));
                 match joint_groups.iter_mut().find(|(e, _)| *e == entity) {
                     Some((_, list)) => list.push(i),
                     None => joint_groups.push((entity, vec![i])),
@@ -199,7 +198,7 @@ impl Recorder {
             .enumerate()
             .filter_map(|(i, c)| match c {
                 Constraint::Rod(rod) => {
-                    let group = group_of(world, rod.body_a);
+                    let group = group_of(lab, rod.body_a);
                     let short = rod.name.rsplit('/').next().unwrap_or(&rod.name).to_string();
                     Some((
                         i,
@@ -210,7 +209,7 @@ impl Recorder {
                 _ => None,
             })
             .collect();
-        let metric_paths = world
+        let metric_paths = lab
             .ragdolls
             .iter()
             .map(|r| {
@@ -234,7 +233,7 @@ impl Recorder {
             arrow_origins: Vec::new(),
             arrow_colors: Vec::new(),
         };
-        recorder.log_static(world, scene)?;
+        recorder.log_static(lab, scene)?;
         Ok(recorder)
     }
 
@@ -242,7 +241,8 @@ impl Recorder {
         &self.rec
     }
 
-    fn log_static(&self, world: &World, scene: &Scene) -> anyhow::Result<()> {
+    fn log_static(&self, lab: &Lab, scene: &Scene) -> anyhow::Result<()> {
+        let world = &lab.world;
         let rec = &self.rec;
         rec.log_static("world", &rerun::ViewCoordinates::RIGHT_HAND_Y_UP())?;
         let text = format!(
@@ -279,11 +279,7 @@ impl Recorder {
         for batch in &self.batches {
             let color_of = |id: BodyId| {
                 let body = world.body(id);
-                let ragdoll = world
-                    .ragdolls
-                    .iter()
-                    .find(|r| r.bodies.contains(&id.index()));
-                match (body.is_dynamic(), ragdoll) {
+                match (body.is_dynamic(), lab.ragdoll_of(id)) {
                     (false, _) => rerun::Color::from_rgb(110, 110, 110),
                     (true, Some(r)) => spine_color(r.spine),
                     (true, None) => rerun::Color::from_rgb(200, 160, 60),
@@ -362,7 +358,7 @@ impl Recorder {
                 }
             }
         }
-        for (r, paths) in world.ragdolls.iter().zip(&self.metric_paths) {
+        for (r, paths) in lab.ragdolls.iter().zip(&self.metric_paths) {
             let style = rerun::SeriesLines::new()
                 .with_colors([spine_color(r.spine)])
                 .with_names([r.name.as_str()]);
@@ -373,7 +369,8 @@ impl Recorder {
         Ok(())
     }
 
-    fn log_frame(&mut self, world: &World, metrics: &FrameMetrics) -> anyhow::Result<()> {
+    fn log_frame(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()> {
+        let world = &lab.world;
         let rec = &self.rec;
         rec.set_time_sequence("frame", world.frame as i64);
         rec.set_duration_secs("sim_time", world.time);
@@ -456,9 +453,9 @@ impl Recorder {
         if self.options.rods {
             self.log_rods(world, metrics)?;
         }
-        self.log_contacts(world, metrics)?;
+        self.log_contacts(lab, metrics)?;
         if self.options.bones {
-            self.log_bones(world, metrics)?;
+            self.log_bones(lab, metrics)?;
         }
         if self.options.energy {
             let rec = &self.rec;
@@ -539,14 +536,15 @@ impl Recorder {
 
     /// Contact points and normals (a scene switch), the deepest penetration, and, with many
     /// ragdolls, the residuals summed over all of them.
-    fn log_contacts(&mut self, world: &World, metrics: &FrameMetrics) -> anyhow::Result<()> {
+    fn log_contacts(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()> {
+        let world = &lab.world;
         if world.settings.contacts {
             self.rec.log(
                 "metrics/penetration_cm",
                 &rerun::Scalars::single(metrics.max_penetration_cm as f64),
             )?;
         }
-        if world.ragdolls.len() > 2 {
+        if lab.ragdolls.len() > 2 {
             let (dislocation, angular) = metrics.totals();
             self.rec.log(
                 "metrics/total/dislocation_cm",
@@ -577,13 +575,13 @@ impl Recorder {
     }
 
     /// Animation bones per ragdoll and mapping method, with their errors.
-    fn log_bones(&mut self, world: &World, metrics: &FrameMetrics) -> anyhow::Result<()> {
+    fn log_bones(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()> {
         for &(ragdoll_index, method, error) in &metrics.bones {
-            let ragdoll = &world.ragdolls[ragdoll_index];
+            let ragdoll = &lab.ragdolls[ragdoll_index];
             let Some(skeleton) = &ragdoll.skeleton else {
                 continue;
             };
-            let bones = skeleton.pose(world, method);
+            let bones = skeleton.pose(&lab.world, method);
             self.rec.log(
                 format!("world/{}/bones/{}", ragdoll.name, method.name()),
                 &rerun::LineStrips3D::new([bones.origins.iter().map(|p| p.to_array())])
@@ -614,16 +612,16 @@ fn bone_color(method: BoneMethod) -> rerun::Color {
 }
 
 impl Observer for Recorder {
-    fn begin(&mut self, world: &World, metrics: &FrameMetrics) -> anyhow::Result<()> {
-        self.log_frame(world, metrics)
+    fn begin(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()> {
+        self.log_frame(lab, metrics)
     }
 
-    fn frame(&mut self, world: &World, metrics: &FrameMetrics) -> anyhow::Result<()> {
-        self.log_frame(world, metrics)
+    fn frame(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()> {
+        self.log_frame(lab, metrics)
     }
 
-    fn failed(&mut self, world: &World, error: &SimulationError) {
-        self.rec.set_time_sequence("frame", world.frame as i64);
+    fn failed(&mut self, lab: &Lab, error: &SimulationError) {
+        self.rec.set_time_sequence("frame", lab.world.frame as i64);
         let text = format!("# Run stopped\n\n{error}\n");
         let _ = self
             .rec

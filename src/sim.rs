@@ -2,34 +2,35 @@
 //! [`Observer`] (the recorder, a test, or nothing). No Rerun here.
 
 use crate::constraint::{JointFlavour, TwistMode};
+use crate::lab::Lab;
 use crate::metrics::{FrameMetrics, Summary};
 use crate::ragdoll::SpineKind;
 use crate::scene::SceneDef;
-use crate::world::{SimulationError, SolverKind, World};
+use crate::world::{SimulationError, SolverKind};
 
-/// Receives the world after every frame.
+/// Receives the lab after every frame.
 pub trait Observer {
     /// Called once before the first step, with the initial state as frame 0.
-    fn begin(&mut self, _world: &World, _metrics: &FrameMetrics) -> anyhow::Result<()> {
+    fn begin(&mut self, _lab: &Lab, _metrics: &FrameMetrics) -> anyhow::Result<()> {
         Ok(())
     }
-    fn frame(&mut self, world: &World, metrics: &FrameMetrics) -> anyhow::Result<()>;
+    fn frame(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()>;
     /// Called when the simulation fails, after the last good frame was observed.
-    fn failed(&mut self, _world: &World, _error: &SimulationError) {}
+    fn failed(&mut self, _lab: &Lab, _error: &SimulationError) {}
 }
 
 /// An observer that ignores everything.
 pub struct NoObserver;
 
 impl Observer for NoObserver {
-    fn frame(&mut self, _: &World, _: &FrameMetrics) -> anyhow::Result<()> {
+    fn frame(&mut self, _: &Lab, _: &FrameMetrics) -> anyhow::Result<()> {
         Ok(())
     }
 }
 
-impl<F: FnMut(&World, &FrameMetrics)> Observer for F {
-    fn frame(&mut self, world: &World, metrics: &FrameMetrics) -> anyhow::Result<()> {
-        self(world, metrics);
+impl<F: FnMut(&Lab, &FrameMetrics)> Observer for F {
+    fn frame(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()> {
+        self(lab, metrics);
         Ok(())
     }
 }
@@ -118,16 +119,12 @@ impl RunReport {
     }
 }
 
-/// Steps `world` for `frames` frames. Residual statistics cover frames 1..=frames.
-pub fn run(
-    world: &mut World,
-    frames: u32,
-    observer: &mut dyn Observer,
-) -> anyhow::Result<RunReport> {
+/// Steps `lab` for `frames` frames. Residual statistics cover frames 1..=frames.
+pub fn run(lab: &mut Lab, frames: u32, observer: &mut dyn Observer) -> anyhow::Result<RunReport> {
     let mut metrics = FrameMetrics::default();
-    metrics.measure(world);
+    metrics.measure(lab);
     let initial_energy = metrics.total_energy();
-    let mut ragdolls: Vec<RagdollReport> = world
+    let mut ragdolls: Vec<RagdollReport> = lab
         .ragdolls
         .iter()
         .map(|r| RagdollReport {
@@ -136,25 +133,25 @@ pub fn run(
             summary: Summary::default(),
         })
         .collect();
-    observer.begin(world, &metrics)?;
+    observer.begin(lab, &metrics)?;
     let mut total_dislocation_cm = Vec::with_capacity(frames as usize);
     let mut max_penetration_cm = 0.0f32;
     let mut step_seconds = 0.0f64;
     for _ in 0..frames {
         let started = std::time::Instant::now();
-        let stepped = world.step();
+        let stepped = lab.step();
         step_seconds += started.elapsed().as_secs_f64();
         if let Err(error) = stepped {
-            observer.failed(world, &error);
+            observer.failed(lab, &error);
             return Err(error.into());
         }
-        metrics.measure(world);
+        metrics.measure(lab);
         total_dislocation_cm.push(metrics.totals().0);
         max_penetration_cm = max_penetration_cm.max(metrics.max_penetration_cm);
         for (report, residual) in ragdolls.iter_mut().zip(&metrics.ragdolls) {
             report.summary.add(*residual);
         }
-        observer.frame(world, &metrics)?;
+        observer.frame(lab, &metrics)?;
     }
     Ok(RunReport {
         frames,

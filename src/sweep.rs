@@ -34,11 +34,12 @@ use std::time::Instant;
 
 use crate::chart::{Chart, Series};
 use crate::constraint::JointFlavour;
+use crate::lab::Lab;
 use crate::metrics::FrameMetrics;
 use crate::ragdoll::SpineKind;
 use crate::scene::{Scene, SceneDef};
 use crate::sim::Overrides;
-use crate::world::{SolverKind, World};
+use crate::world::SolverKind;
 
 /// What to sweep.
 #[derive(Clone, Debug)]
@@ -196,15 +197,15 @@ pub fn run_one(scene: &Scene, overrides: &Overrides, repeats: u32) -> anyhow::Re
     time_and_measure(row, frames, repeats, || Ok(scene.build()?))
 }
 
-/// An engine the sweep can time frame by frame, with a rodlab world to measure.
+/// An engine the sweep can time frame by frame, with a rodlab lab to measure.
 pub trait Timed {
     /// Advances one frame: the wall time of the engine's step alone (us), or why it stopped.
     fn step_timed(&mut self) -> Result<f64, String>;
-    /// The world whose residuals are measured after each frame (not timed).
-    fn measured(&self) -> &World;
+    /// The lab whose residuals are measured after each frame (not timed).
+    fn measured(&self) -> &Lab;
 }
 
-impl Timed for World {
+impl Timed for Lab {
     fn step_timed(&mut self) -> Result<f64, String> {
         let start = Instant::now();
         let stepped = self.step();
@@ -212,7 +213,7 @@ impl Timed for World {
         stepped.map(|()| elapsed).map_err(|e| e.to_string())
     }
 
-    fn measured(&self) -> &World {
+    fn measured(&self) -> &Lab {
         self
     }
 }
@@ -420,46 +421,46 @@ pub fn feature_costs(scene: &Scene, frames: u32) -> anyhow::Result<Vec<FeatureCo
     use crate::constraint::Constraint;
     let base = scene.build()?;
     let has_limits = base
+        .world
         .constraints
         .iter()
         .any(|c| matches!(c, Constraint::BallSocket(j) if j.limit.is_some()));
     let has_bones = base.ragdolls.iter().any(|r| r.skeleton.is_some());
-    let time = |edit: &dyn Fn(&mut crate::world::World), measure: bool| -> anyhow::Result<f64> {
-        let mut world = scene.build()?;
-        edit(&mut world);
+    let time = |edit: &dyn Fn(&mut Lab), measure: bool| -> anyhow::Result<f64> {
+        let mut lab = scene.build()?;
+        edit(&mut lab);
         let mut metrics = FrameMetrics::default();
         let mut times = Vec::with_capacity(frames as usize);
         for frame in 0..frames {
             let start = Instant::now();
             if measure {
-                metrics.measure(&world);
+                metrics.measure(&lab);
             } else {
-                world.step()?;
+                lab.step()?;
             }
             if frame >= frames / 10 {
                 times.push(start.elapsed().as_secs_f64() * 1e6);
             }
             if measure {
-                world.step()?;
+                lab.step()?;
             }
         }
         Ok(median(&mut times))
     };
-    let contacts = |on: bool| move |w: &mut crate::world::World| w.settings.contacts = on;
-    let no_limits = |w: &mut crate::world::World| {
-        for c in &mut w.constraints {
+    let contacts = |on: bool| move |lab: &mut Lab| lab.world.settings.contacts = on;
+    let no_limits = |lab: &mut Lab| {
+        for c in &mut lab.world.constraints {
             if let Constraint::BallSocket(joint) = c {
                 joint.limit = None;
             }
         }
     };
-    let no_bones =
-        |w: &mut crate::world::World| w.ragdolls.iter_mut().for_each(|r| r.skeleton = None);
-    let keep = |_: &mut crate::world::World| {};
+    let no_bones = |lab: &mut Lab| lab.ragdolls.iter_mut().for_each(|r| r.skeleton = None);
+    let keep = |_: &mut Lab| {};
     Ok(vec![
         FeatureCost {
             feature: "contacts",
-            modelled: base.settings.contacts,
+            modelled: base.world.settings.contacts,
             with_us: time(&contacts(true), false)?,
             without_us: time(&contacts(false), false)?,
         },

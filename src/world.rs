@@ -1,9 +1,9 @@
-//! The world: bodies, constraints, settings and the ragdolls that group them.
+//! The world: bodies, constraints, contacts and settings; physics only (the ragdolls that
+//! group its bodies live in [`crate::lab::Lab`]).
 
 use crate::body::{Body, BodyId};
 use crate::constraint::Constraint;
 use crate::contact::Contacts;
-use crate::ragdoll::Ragdoll;
 use crate::solver::Solver;
 
 pub use crate::solver::{
@@ -15,7 +15,6 @@ pub struct World {
     pub settings: Settings,
     pub bodies: Vec<Body>,
     pub constraints: Vec<Constraint>,
-    pub ragdolls: Vec<Ragdoll>,
     pub contacts: Contacts,
     /// The solver's reused per-step storage (hot bodies, rows per kind, colours).
     pub solver: Solver,

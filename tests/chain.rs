@@ -67,7 +67,6 @@ fn hanging_chain(flavour: JointFlavour, iterations: u32) -> (World, Ragdoll) {
         skeleton: None,
         target_positions: Vec::new(),
     };
-    world.ragdolls.push(group.clone());
     (world, group)
 }
 

@@ -15,8 +15,8 @@ fn mean_deviation_cm(spine: &str, iterations: u32) -> f64 {
         ..Default::default()
     }
     .apply(&mut scene.def);
-    let mut world = scene.build().unwrap();
-    let report = sim::run(&mut world, scene.def.frames, &mut NoObserver).unwrap();
+    let mut lab = scene.build().unwrap();
+    let report = sim::run(&mut lab, scene.def.frames, &mut NoObserver).unwrap();
     let r = report
         .ragdolls
         .iter()

@@ -17,8 +17,8 @@ fn residual(flavour: JointFlavour, iterations: u32) -> (f64, f64) {
         ..Default::default()
     }
     .apply(&mut scene.def);
-    let mut world = scene.build().unwrap();
-    let report = sim::run(&mut world, scene.def.frames, &mut NoObserver).unwrap();
+    let mut lab = scene.build().unwrap();
+    let report = sim::run(&mut lab, scene.def.frames, &mut NoObserver).unwrap();
     let s = report.ragdolls[0].summary;
     (s.mean_dislocation_cm(), s.mean_angular_rad())
 }
@@ -57,14 +57,14 @@ fn rod_spine_leaves_less_dislocation_than_chain3() {
         ..Default::default()
     }
     .apply(&mut scene.def);
-    let mut world = scene.build().unwrap();
-    let chests: Vec<_> = world
+    let mut lab = scene.build().unwrap();
+    let chests: Vec<_> = lab
         .ragdolls
         .iter()
-        .map(|r| r.part(&world, "chest").unwrap())
+        .map(|r| r.part(&lab.world, "chest").unwrap())
         .collect();
-    let start: Vec<_> = chests.iter().map(|&c| world.body(c).position).collect();
-    let report = sim::run(&mut world, scene.def.frames, &mut NoObserver).unwrap();
+    let start: Vec<_> = chests.iter().map(|&c| lab.world.body(c).position).collect();
+    let report = sim::run(&mut lab, scene.def.frames, &mut NoObserver).unwrap();
     let by_spine = |spine: &str| {
         report
             .ragdolls
@@ -81,7 +81,7 @@ fn rod_spine_leaves_less_dislocation_than_chain3() {
         chain3.mean_dislocation_cm()
     );
     for (chest, start) in chests.iter().zip(start) {
-        let end = world.body(*chest).position;
+        let end = lab.world.body(*chest).position;
         assert!(
             end.z > start.z + 0.1 && end.y < start.y - 0.05,
             "chest moved {start} -> {end}"

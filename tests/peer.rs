@@ -58,13 +58,13 @@ fn pendulum_period_matches_rodlab_and_theory() {
     let scene = pendulum();
     let dt = scene.def.dt;
     let bob = 1;
-    let mut world = scene.build().unwrap();
+    let mut world = scene.build().unwrap().world;
     let mut rodlab_x = Vec::new();
     for _ in 0..scene.def.frames {
         world.step().unwrap();
         rodlab_x.push(world.bodies[bob].position.x);
     }
-    let mut world = scene.build().unwrap();
+    let mut world = scene.build().unwrap().world;
     let mut rapier = RapierWorld::new(&world, 20).unwrap();
     let mut rapier_x = Vec::new();
     for _ in 0..scene.def.frames {

@@ -2,16 +2,16 @@
 //! through the floor, every body nearly at rest at the end, and the rod spine leaving less
 //! dislocation than the three-joint spine, on the mean over three drop layouts.
 
+use rodlab::lab::Lab;
 use rodlab::ragdoll::SpineKind;
 use rodlab::scene::Scene;
 use rodlab::sim::{self, Overrides};
-use rodlab::world::World;
 
 const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/ragdoll_drop.toml");
 
-/// Runs the drop with one spine and layout seed; returns the final world, the mean total
+/// Runs the drop with one spine and layout seed; returns the final lab, the mean total
 /// dislocation (cm) and the lowest body centre (m).
-fn drop(spine: SpineKind, seed: u64) -> (World, f32, f32) {
+fn drop(spine: SpineKind, seed: u64) -> (Lab, f32, f32) {
     let text = std::fs::read_to_string(SCENE).unwrap();
     assert!(text.contains("seed = 7"));
     let text = text.replace("seed = 7", &format!("seed = {seed}"));
@@ -21,36 +21,35 @@ fn drop(spine: SpineKind, seed: u64) -> (World, f32, f32) {
         ..Default::default()
     }
     .apply(&mut scene.def);
-    let mut world = scene.build().unwrap();
-    assert_eq!(world.ragdolls.len(), 30);
+    let mut lab = scene.build().unwrap();
+    assert_eq!(lab.ragdolls.len(), 30);
     let mut lowest = f32::INFINITY;
-    let mut observer = |w: &World, _: &rodlab::metrics::FrameMetrics| {
-        for r in &w.ragdolls {
+    let mut observer = |lab: &Lab, _: &rodlab::metrics::FrameMetrics| {
+        for r in &lab.ragdolls {
             for id in r.body_ids() {
-                let body = w.body(id);
+                let body = lab.world.body(id);
                 lowest = lowest.min(body.position.y);
             }
         }
     };
-    let report =
-        sim::run(&mut world, scene.def.frames, &mut observer).expect("no NaN, no explosion");
+    let report = sim::run(&mut lab, scene.def.frames, &mut observer).expect("no NaN, no explosion");
     let mean =
         report.total_dislocation_cm.iter().sum::<f32>() / report.total_dislocation_cm.len() as f32;
-    (world, mean, lowest)
+    (lab, mean, lowest)
 }
 
 #[test]
 fn thirty_ragdolls_land_and_settle_and_the_rod_spine_leaves_less_residual() {
     let mut means = Vec::new();
     for spine in [SpineKind::Chain3, SpineKind::Rod] {
-        let (world, mean, lowest) = drop(spine, 7);
+        let (lab, mean, lowest) = drop(spine, 7);
         // body centres stay above the floor (the thinnest limb has a 4 cm radius)
         assert!(lowest > 0.0, "{spine}: a body centre reached y = {lowest}");
-        let bodies: Vec<_> = world
+        let bodies: Vec<_> = lab
             .ragdolls
             .iter()
             .flat_map(|r| r.body_ids())
-            .map(|id| world.body(id))
+            .map(|id| lab.world.body(id))
             .collect();
         let fastest_centre = bodies
             .iter()

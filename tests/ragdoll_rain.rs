@@ -3,40 +3,41 @@
 //! above the floor, with the scene's 4 substeps of 4 iterations. The full 10 s is an ignored test:
 //! `cargo test --release --test ragdoll_rain -- --ignored --nocapture`.
 
+use rodlab::lab::Lab;
 use rodlab::ragdoll::SpineKind;
 use rodlab::scene::Scene;
 use rodlab::sim::{self, Overrides};
-use rodlab::world::World;
 
 const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/ragdoll_rain.toml");
 
-/// Runs the rain with one spine for `frames` frames; returns the final world and the lowest
+/// Runs the rain with one spine for `frames` frames; returns the final lab and the lowest
 /// ragdoll body centre (m) over the run.
-fn rain(spine: SpineKind, frames: u32) -> (World, f32) {
+fn rain(spine: SpineKind, frames: u32) -> (Lab, f32) {
     let mut scene = Scene::load(SCENE).unwrap();
     Overrides {
         spine: Some(spine),
         ..Default::default()
     }
     .apply(&mut scene.def);
-    let mut world = scene.build().unwrap();
-    assert_eq!(world.ragdolls.len(), 1000);
+    let mut lab = scene.build().unwrap();
+    assert_eq!(lab.ragdolls.len(), 1000);
     // The scene runs 4 substeps of 4 iterations. With one substep of 4 iterations the pile
     // presses forearms about 12 cm through the floor at the first impacts (measured: lowest
     // centre -8.6 cm at frame 58, chain3); 4 substeps of 1 or 2 iterations throw an elbow past
     // 500 rad/s at the first impacts (frames 55-60).
-    assert_eq!((world.settings.substeps, world.settings.iterations), (4, 4));
+    let settings = &lab.world.settings;
+    assert_eq!((settings.substeps, settings.iterations), (4, 4));
     let mut lowest = f32::INFINITY;
-    let mut observer = |w: &World, _: &rodlab::metrics::FrameMetrics| {
-        for r in &w.ragdolls {
+    let mut observer = |lab: &Lab, _: &rodlab::metrics::FrameMetrics| {
+        for r in &lab.ragdolls {
             for id in r.body_ids() {
-                lowest = lowest.min(w.body(id).position.y);
+                lowest = lowest.min(lab.world.body(id).position.y);
             }
         }
     };
     let started = std::time::Instant::now();
     let report =
-        sim::run(&mut world, frames, &mut observer).unwrap_or_else(|e| panic!("{spine}: {e:#}"));
+        sim::run(&mut lab, frames, &mut observer).unwrap_or_else(|e| panic!("{spine}: {e:#}"));
     let seconds = started.elapsed().as_secs_f64();
     let mean =
         report.total_dislocation_cm.iter().sum::<f32>() / report.total_dislocation_cm.len() as f32;
@@ -47,7 +48,7 @@ fn rain(spine: SpineKind, frames: u32) -> (World, f32) {
         frames as f64 / seconds,
         report.max_penetration_cm
     );
-    (world, lowest)
+    (lab, lowest)
 }
 
 #[test]
@@ -55,9 +56,10 @@ fn the_scene_builds_a_thousand_ragdolls_and_its_world() {
     let scene = Scene::load(SCENE).unwrap();
     assert_eq!(scene.def.ci_frames, Some(60));
     assert_eq!(scene.def.frames, 600);
-    let world = scene.build().unwrap();
-    assert_eq!(world.ragdolls.len(), 1000);
-    let fixed = world
+    let lab = scene.build().unwrap();
+    assert_eq!(lab.ragdolls.len(), 1000);
+    let fixed = lab
+        .world
         .bodies
         .iter()
         .filter(|b| b.kind == rodlab::body::BodyKind::Fixed)
@@ -80,13 +82,13 @@ fn two_seconds_of_rain_stay_finite_and_above_the_floor() {
 #[ignore]
 fn ten_seconds_of_rain_stay_finite_and_above_the_floor() {
     for spine in [SpineKind::Chain3, SpineKind::Rod] {
-        let (world, lowest) = rain(spine, 600);
+        let (lab, lowest) = rain(spine, 600);
         assert!(lowest > 0.0, "{spine}: a body centre reached y = {lowest}");
-        let fastest = world
+        let fastest = lab
             .ragdolls
             .iter()
             .flat_map(|r| r.body_ids())
-            .map(|id| world.body(id).linear_velocity.length())
+            .map(|id| lab.world.body(id).linear_velocity.length())
             .fold(0.0, f32::max);
         println!("{spine}: fastest body centre after 10 s: {fastest:.3} m/s");
     }

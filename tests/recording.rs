@@ -144,11 +144,11 @@ fn explosion_names_body_constraint_and_frame_and_keeps_the_recording() {
 #[test]
 fn nan_stops_the_run() {
     let mut scene = Scene::parse("nan.toml", EXPLODING).unwrap();
-    let mut world = scene.build().unwrap();
-    let bob = world.find_body("bob").unwrap();
-    world.body_mut(bob).linear_velocity.x = f32::NAN;
+    let mut lab = scene.build().unwrap();
+    let bob = lab.world.find_body("bob").unwrap();
+    lab.world.body_mut(bob).linear_velocity.x = f32::NAN;
     scene.def.frames = 5;
-    let err = rodlab::sim::run(&mut world, 5, &mut rodlab::sim::NoObserver)
+    let err = rodlab::sim::run(&mut lab, 5, &mut rodlab::sim::NoObserver)
         .expect_err("NaN must stop the run");
     let text = err.to_string();
     assert!(

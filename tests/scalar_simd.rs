@@ -17,10 +17,10 @@ fn scene(name: &str) -> Scene {
 }
 
 fn run(scene: &Scene, solver: SolverKind, frames: u32) -> (World, RunReport) {
-    let mut world = scene.build().unwrap();
-    world.settings.solver = solver;
-    let report = sim::run(&mut world, frames, &mut NoObserver).unwrap();
-    (world, report)
+    let mut lab = scene.build().unwrap();
+    lab.world.settings.solver = solver;
+    let report = sim::run(&mut lab, frames, &mut NoObserver).unwrap();
+    (lab.world, report)
 }
 
 fn mean_dislocation(report: &RunReport) -> f64 {
@@ -83,14 +83,15 @@ fn drop_agrees_within_its_own_chaos() {
     let (scalar, scalar_report) = run(&scene, SolverKind::Scalar, frames);
     let (simd, simd_report) = run(&scene, SolverKind::Simd, frames);
     let mut nudged = scene.build().unwrap();
-    let first = nudged.bodies.iter().position(|b| b.is_dynamic()).unwrap();
-    let (p, q) = (
-        nudged.bodies[first].position,
-        nudged.bodies[first].orientation,
-    );
-    nudged.bodies[first].set_pose(p + rodlab::math::Vec3::new(1e-6, 0.0, 0.0), q);
+    let bodies = &mut nudged.world.bodies;
+    let first = bodies.iter().position(|b| b.is_dynamic()).unwrap();
+    let (p, q) = (bodies[first].position, bodies[first].orientation);
+    bodies[first].set_pose(p + rodlab::math::Vec3::new(1e-6, 0.0, 0.0), q);
     let nudged_report = sim::run(&mut nudged, frames, &mut NoObserver).unwrap();
-    let (gap, chaos) = (largest_gap(&scalar, &simd), largest_gap(&scalar, &nudged));
+    let (gap, chaos) = (
+        largest_gap(&scalar, &simd),
+        largest_gap(&scalar, &nudged.world),
+    );
     let d = mean_dislocation(&scalar_report);
     let apart = |r: &RunReport| (mean_dislocation(r) - d).abs() / d;
     let (simd_apart, nudged_apart) = (apart(&simd_report), apart(&nudged_report));

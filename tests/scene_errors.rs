@@ -49,8 +49,8 @@ fn line_of(needle: &str) -> usize {
 #[test]
 fn the_good_scene_loads() {
     let scene = Scene::parse("scenes/x.toml", GOOD).unwrap();
-    let world = scene.build().unwrap();
-    assert_eq!(world.ragdolls.len(), 1);
+    let lab = scene.build().unwrap();
+    assert_eq!(lab.ragdolls.len(), 1);
 }
 
 #[test]
@@ -114,7 +114,8 @@ fn substeps_and_solver_reach_the_settings() {
     let default = Scene::parse("scenes/x.toml", GOOD)
         .unwrap()
         .build()
-        .unwrap();
+        .unwrap()
+        .world;
     assert_eq!(default.settings.substeps, 1);
     assert_eq!(default.settings.solver, SolverKind::Scalar);
     let text = GOOD.replacen(
@@ -125,7 +126,8 @@ fn substeps_and_solver_reach_the_settings() {
     let world = Scene::parse("scenes/x.toml", &text)
         .unwrap()
         .build()
-        .unwrap();
+        .unwrap()
+        .world;
     assert_eq!(world.settings.substeps, 4);
     assert_eq!(world.settings.solver, SolverKind::Simd);
 }
@@ -210,7 +212,7 @@ alpha_b = 0.1
 #[test]
 fn a_rod_between_bodies_loads() {
     let scene = Scene::parse("scenes/x.toml", &format!("{GOOD}{WITH_ROD}")).unwrap();
-    let world = scene.build().unwrap();
+    let world = scene.build().unwrap().world;
     assert!(world.constraints.iter().any(|c| c.name() == "spring"));
 }
 
@@ -293,7 +295,7 @@ fn tiled_line(needle: &str) -> usize {
 fn a_tile_is_copied_over_its_grid() {
     let scene = Scene::parse("scenes/t.toml", TILED).unwrap();
     assert_eq!(scene.def.ci_frames, Some(5));
-    let world = scene.build().unwrap();
+    let world = scene.build().unwrap().world;
     assert_eq!(world.bodies.len(), 1 + 2 * 3 * 2);
     let corner = world.body(world.find_body("stairs_2_1_wall").unwrap());
     assert_eq!(corner.position.to_array(), [5.0, 0.3, 5.0]);

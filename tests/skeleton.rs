@@ -2,15 +2,16 @@
 //! bone lengths but misses the chest; adding positions closes the gap but stretches bones;
 //! riding the arc does well on both. At the transition every method is exact.
 
+use rodlab::lab::Lab;
 use rodlab::scene::Scene;
 use rodlab::sim::{self, NoObserver, Overrides};
 use rodlab::skeleton::{BoneError, BoneMethod};
-use rodlab::world::World;
 
 const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/passive_bending.toml");
 
-fn errors(world: &World, spine: &str) -> Vec<(BoneMethod, BoneError)> {
-    let ragdoll = world
+fn errors(lab: &Lab, spine: &str) -> Vec<(BoneMethod, BoneError)> {
+    let world = &lab.world;
+    let ragdoll = lab
         .ragdolls
         .iter()
         .find(|r| r.spine.to_string() == spine)
@@ -23,23 +24,23 @@ fn errors(world: &World, spine: &str) -> Vec<(BoneMethod, BoneError)> {
         .collect()
 }
 
-fn slumped_world() -> World {
+fn slumped_lab() -> Lab {
     let mut scene = Scene::load(SCENE).unwrap();
     Overrides {
         frames: Some(120),
         ..Default::default()
     }
     .apply(&mut scene.def);
-    let mut world = scene.build().unwrap();
-    sim::run(&mut world, scene.def.frames, &mut NoObserver).unwrap();
-    world
+    let mut lab = scene.build().unwrap();
+    sim::run(&mut lab, scene.def.frames, &mut NoObserver).unwrap();
+    lab
 }
 
 #[test]
 fn every_method_is_exact_at_the_transition() {
-    let world = Scene::load(SCENE).unwrap().build().unwrap();
+    let lab = Scene::load(SCENE).unwrap().build().unwrap();
     for spine in ["chain3", "rod"] {
-        for (method, e) in errors(&world, spine) {
+        for (method, e) in errors(&lab, spine) {
             assert!(
                 e.length_cm < 1e-3 && e.chest_gap_cm < 1e-3,
                 "{spine} {method:?}: {e:?}"
@@ -50,8 +51,8 @@ fn every_method_is_exact_at_the_transition() {
 
 #[test]
 fn rod_bone_methods_trade_length_for_gap() {
-    let world = slumped_world();
-    let e: Vec<_> = errors(&world, "rod");
+    let lab = slumped_lab();
+    let e: Vec<_> = errors(&lab, "rod");
     let get = |m: BoneMethod| e.iter().find(|(x, _)| *x == m).unwrap().1;
     let (orientation, both, arc) = (
         get(BoneMethod::Orientation),
@@ -76,8 +77,8 @@ fn rod_bone_methods_trade_length_for_gap() {
 
 #[test]
 fn chain3_bones_follow_their_bodies() {
-    let world = slumped_world();
-    for (method, e) in errors(&world, "chain3") {
+    let lab = slumped_lab();
+    for (method, e) in errors(&lab, "chain3") {
         assert_eq!(method, BoneMethod::Rigid);
         assert!(e.chest_gap_cm < 1e-3, "{e:?}");
     }

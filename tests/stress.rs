@@ -5,13 +5,13 @@
 
 use std::time::Instant;
 
+use rodlab::lab::Lab;
 use rodlab::metrics::FrameMetrics;
 use rodlab::sim::NoObserver;
 use rodlab::stress::{
     run_case, run_suite, suite, table_csv, table_markdown, tripped, verdict, Case, Criteria,
     Measures, Method, Outcome, Scenario, Verdict, CSV_HEADER,
 };
-use rodlab::world::World;
 
 fn run(case: &Case, method: Method) -> Outcome {
     run_case(case, method, &mut NoObserver)
@@ -87,7 +87,7 @@ fn stiff_rod_spine_is_stable_at_long_time_steps() {
     for (name, max_psi, max_residual_cm) in bounds {
         let case = suite_case(name);
         let (mut frames, mut largest_psi) = (0, 0.0f32);
-        let mut observer = |_: &World, metrics: &FrameMetrics| {
+        let mut observer = |_: &Lab, metrics: &FrameMetrics| {
             frames += 1;
             largest_psi = largest_psi.max(metrics.rods[0].psi);
         };

@@ -123,7 +123,7 @@ fn a_scene_without_contacts_pays_nothing_for_collision_detection() {
     let scene = Scene::load(format!("{SCENES}/passive_bending.toml")).unwrap();
     assert!(!scene.def.contacts);
     for contacts in [false, true] {
-        let mut world = scene.build().unwrap();
+        let mut world = scene.build().unwrap().world;
         world.settings.contacts = contacts;
         for _ in 0..60 {
             world.step().unwrap();

@@ -1,5 +1,5 @@
 //! Scene files: what users write (TOML, read with serde, unknown fields refused), checked,
-//! then built into a [`World`]. The definitions here are separate from solver state.
+//! then built into a [`Lab`] (a [`World`] and its ragdolls). The definitions here are separate from solver state.
 //!
 //! Every error reads `FILE:LINE: FIELD: message`, for syntax, type and semantic mistakes alike.
 
@@ -13,8 +13,9 @@ use crate::body::{Body, BodyKind};
 use crate::constraint::{
     AngularLimit, BallSocket, Constraint, JointFlavour, LengthCorrection, Rod, TwistMode,
 };
+use crate::lab::Lab;
 use crate::math::{quat_from_degrees, Iso, Quat, Vec3};
-use crate::ragdoll::{build_humanoid, joint_names, HumanoidSpec, RodParams, SpineKind};
+use crate::ragdoll::{joint_names, HumanoidSpec, RodParams, SpineKind};
 use crate::shape::{Axis, Shape};
 use crate::world::{
     Settings, SolverKind, World, DEFAULT_MAX_ANGULAR_SPEED, DEFAULT_MAX_LINEAR_SPEED,
@@ -784,10 +785,10 @@ impl Scene {
         Ok(())
     }
 
-    /// Builds the world this scene describes.
-    pub fn build(&self) -> Result<World, SceneError> {
+    /// Builds the lab (world and ragdolls) this scene describes.
+    pub fn build(&self) -> Result<Lab, SceneError> {
         let d = &self.def;
-        let mut world = World::new(Settings {
+        let mut lab = Lab::new(World::new(Settings {
             gravity: Vec3::from(d.gravity),
             dt: d.dt,
             iterations: d.iterations,
@@ -800,7 +801,7 @@ impl Scene {
             contact_push_speed: crate::solver::DEFAULT_CONTACT_PUSH_SPEED,
             linear_damping: d.damping[0],
             angular_damping: d.damping[1],
-        });
+        }));
         for (i, r) in d.ragdoll.iter().enumerate() {
             let spec = HumanoidSpec {
                 name: r.name.clone(),
@@ -835,8 +836,10 @@ impl Scene {
                 Seg::Index(i),
                 Seg::Key("spine".into()),
             ];
-            build_humanoid(&mut world, &spec).map_err(|m| self.error_at(&path, m))?;
+            lab.add_humanoid(&spec)
+                .map_err(|m| self.error_at(&path, m))?;
         }
+        let world = &mut lab.world;
         for b in &d.body {
             world.add_body(build_body(b));
         }
@@ -881,7 +884,7 @@ impl Scene {
             rod.length_correction = r.length_correction;
             world.constraints.push(Constraint::Rod(rod));
         }
-        Ok(world)
+        Ok(lab)
     }
 }
 

@@ -94,6 +94,7 @@ mod scenarios;
 
 pub use scenarios::{suite, Built, Case, Scenario, FOREARM_MASS};
 
+use crate::lab::Lab;
 use crate::math::Vec3;
 use crate::metrics::FrameMetrics;
 use crate::shape::Shape;
@@ -350,7 +351,8 @@ fn nan_max(a: f32, b: f32) -> f32 {
 }
 
 impl Observer for Probe<'_> {
-    fn begin(&mut self, world: &World, metrics: &FrameMetrics) -> anyhow::Result<()> {
+    fn begin(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()> {
+        let world = &lab.world;
         self.initial_energy = metrics.total_energy();
         let mass: f32 = world
             .bodies
@@ -364,23 +366,24 @@ impl Observer for Probe<'_> {
             metrics.kinetic_energy + mass * world.settings.gravity.length() * LIFT_M;
         self.max_energy = self.initial_energy;
         self.history = [Self::velocities(world), Self::velocities(world)];
-        self.inner.begin(world, metrics)
+        self.inner.begin(lab, metrics)
     }
 
-    fn frame(&mut self, world: &World, metrics: &FrameMetrics) -> anyhow::Result<()> {
+    fn frame(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()> {
         self.frames_run += 1;
-        self.observe(world, metrics);
-        self.inner.frame(world, metrics)
+        self.observe(&lab.world, metrics);
+        self.inner.frame(lab, metrics)
     }
 
-    fn failed(&mut self, world: &World, error: &SimulationError) {
+    fn failed(&mut self, lab: &Lab, error: &SimulationError) {
+        let world = &lab.world;
         // the failing frame's state counts toward the peaks
         self.peak_speed = nan_max(self.peak_speed, Self::fastest_point(world));
         self.max_energy = nan_max(
             self.max_energy,
             world.kinetic_energy() + world.potential_energy(),
         );
-        self.inner.failed(world, error)
+        self.inner.failed(lab, error)
     }
 }
 
@@ -413,15 +416,15 @@ pub fn run_case(
         return Ok(None);
     };
     let Built {
-        mut world,
+        mut lab,
         frames,
         settles,
         energy_allowance,
     } = built;
-    let reference = speed_reference(&world);
+    let reference = speed_reference(&lab.world);
     let window = (1.0 / case.dt).round().max(1.0) as usize; // frames in the last second
     let mut probe = Probe::new(observer, window, energy_allowance);
-    let failed = match sim::run(&mut world, frames, &mut probe) {
+    let failed = match sim::run(&mut lab, frames, &mut probe) {
         Ok(_) => None,
         Err(error) => match error.downcast_ref::<SimulationError>() {
             Some(failure) => Some(failure.to_string()),

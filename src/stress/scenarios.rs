@@ -7,8 +7,9 @@ use super::Method;
 use crate::body::{Body, BodyId, BodyKind};
 use crate::constraint::rod::arc_point;
 use crate::constraint::{BallSocket, Constraint, JointFlavour, Rod};
+use crate::lab::Lab;
 use crate::math::{Iso, Quat, Vec3};
-use crate::ragdoll::{build_humanoid, HumanoidSpec, Ragdoll, RodParams, SpineKind, TOTAL_MASS};
+use crate::ragdoll::{HumanoidSpec, Ragdoll, RodParams, SpineKind, TOTAL_MASS};
 use crate::shape::{Axis, Shape};
 use crate::world::{Settings, World};
 
@@ -30,10 +31,10 @@ impl Case {
         (self.seconds / self.dt).round().max(1.0) as u32
     }
 
-    /// Builds the world for this method and the number of frames to run, or None when the
+    /// Builds the lab for this method and the number of frames to run, or None when the
     /// case does not apply to the method (a chain has no spine, so `single` skips it).
-    pub fn build(&self, method: Method) -> Option<(World, u32)> {
-        self.build_full(method).map(|b| (b.world, b.frames))
+    pub fn build(&self, method: Method) -> Option<(Lab, u32)> {
+        self.build_full(method).map(|b| (b.lab, b.frames))
     }
 
     /// [`Case::build`] with what the verdict needs to know about the scene.
@@ -159,7 +160,7 @@ pub enum Scenario {
 
 /// A scene ready to run, with what the verdict needs to know about it.
 pub struct Built {
-    pub world: World,
+    pub lab: Lab,
     pub frames: u32,
     /// Whether everything should be nearly at rest by the end of the run.
     pub settles: bool,
@@ -193,7 +194,7 @@ impl Method {
 }
 
 fn build(scenario: Scenario, settings: Settings, frames: u32, method: Method) -> Option<Built> {
-    let mut world = World::new(settings);
+    let mut lab = Lab::new(World::new(settings));
     let mut settles = true;
     let mut energy_allowance = 0.0;
     match scenario {
@@ -206,12 +207,12 @@ fn build(scenario: Scenario, settings: Settings, frames: u32, method: Method) ->
             let mut spec = humanoid(method, stiff_spine);
             spec.fixed = vec!["pelvis".into()];
             spec.joint_rotations = spine_bend(method.spine(), tilt_deg.to_radians());
-            let ragdoll = add_humanoid(&mut world, &spec);
+            let ragdoll = add_humanoid(&mut lab, &spec);
             for forearm in ["forearm_l", "forearm_r"] {
                 let id = ragdoll
-                    .part(&world, forearm)
+                    .part(&lab.world, forearm)
                     .expect("humanoid has forearms");
-                world
+                lab.world
                     .body_mut(id)
                     .set_mass(FOREARM_MASS / forearm_mass_divisor);
             }
@@ -220,8 +221,9 @@ fn build(scenario: Scenario, settings: Settings, frames: u32, method: Method) ->
             settles = false; // the upper body gives way under the weight and swings
             let mut spec = humanoid(method, false);
             spec.fixed = vec!["pelvis".into()];
-            let ragdoll = add_humanoid(&mut world, &spec);
-            let forearm = ragdoll.part(&world, "forearm_l").expect("left forearm");
+            let ragdoll = add_humanoid(&mut lab, &spec);
+            let world = &mut lab.world;
+            let forearm = ragdoll.part(world, "forearm_l").expect("left forearm");
             let radius = 0.1;
             let hand = world.body(forearm).world_point(Vec3::new(0.0, -0.22, 0.0));
             let weight = world.add_body(
@@ -253,17 +255,19 @@ fn build(scenario: Scenario, settings: Settings, frames: u32, method: Method) ->
                 return None;
             }
             settles = !horizontal;
-            energy_allowance = chain(&mut world, method, links, horizontal, stretch_m);
+            energy_allowance = chain(&mut lab, method, links, horizontal, stretch_m);
         }
         Scenario::Projectile { mass, speed } => {
             settles = false; // the sphere rolls on (no rolling resistance)
-            world.settings.contacts = true;
-            world.add_body(Body::new("floor", BodyKind::Fixed, Shape::HalfSpace, 1.0));
+            lab.world.settings.contacts = true;
+            lab.world
+                .add_body(Body::new("floor", BodyKind::Fixed, Shape::HalfSpace, 1.0));
             let mut spec = humanoid(method, false);
             spec.root = Iso::new(Vec3::new(0.0, 0.005, 0.0), Quat::IDENTITY);
-            let ragdoll = add_humanoid(&mut world, &spec);
+            let ragdoll = add_humanoid(&mut lab, &spec);
+            let world = &mut lab.world;
             let chest = world
-                .body(ragdoll.part(&world, "chest").expect("chest"))
+                .body(ragdoll.part(world, "chest").expect("chest"))
                 .position;
             let mut ball = Body::new(
                 "projectile",
@@ -279,24 +283,27 @@ fn build(scenario: Scenario, settings: Settings, frames: u32, method: Method) ->
             settles = false; // the upper body falls and swings
             let mut spec = humanoid(method, false);
             spec.fixed = vec!["pelvis".into()];
-            energy_allowance = bend_spine(&mut world, spec, psi_deg.to_radians(), false);
+            energy_allowance = bend_spine(&mut lab, spec, psi_deg.to_radians(), false);
         }
         Scenario::Hanging { psi_deg } => {
             let mut spec = humanoid(method, false);
             spec.fixed = vec!["head".into()];
-            energy_allowance = bend_spine(&mut world, spec, psi_deg.to_radians(), true);
+            energy_allowance = bend_spine(&mut lab, spec, psi_deg.to_radians(), true);
         }
     }
     Some(Built {
-        world,
+        lab,
         frames,
         settles,
         energy_allowance,
     })
 }
 
-fn add_humanoid(world: &mut World, spec: &HumanoidSpec) -> Ragdoll {
-    build_humanoid(world, spec).expect("the suite names only known joints and parts")
+/// Builds the humanoid into `lab` and returns a copy of its ragdoll.
+fn add_humanoid(lab: &mut Lab, spec: &HumanoidSpec) -> Ragdoll {
+    lab.add_humanoid(spec)
+        .expect("the suite names only known joints and parts")
+        .clone()
 }
 
 fn humanoid(method: Method, stiff_spine: bool) -> HumanoidSpec {
@@ -345,13 +352,14 @@ const PELVIS_SIDE: [&str; 5] = ["pelvis", "thigh_l", "thigh_r", "shank_l", "shan
 /// `move_pelvis` choosing the side (the other one is the fixed one), so the rod starts bent
 /// with its hard constraints holding. Returns the potential energy the bend took away, which
 /// the spine's springs may give back.
-fn bend_spine(world: &mut World, spec: HumanoidSpec, psi: f32, move_pelvis: bool) -> f32 {
-    let ragdoll = add_humanoid(world, &spec);
+fn bend_spine(lab: &mut Lab, spec: HumanoidSpec, psi: f32, move_pelvis: bool) -> f32 {
+    let ragdoll = add_humanoid(lab, &spec);
+    let world = &mut lab.world;
     let straight_energy = world.potential_energy();
     if spec.spine == SpineKind::Rod {
         bend_rod(world, &ragdoll, psi, move_pelvis);
     } else {
-        let mut bent = World::new(world.settings.clone());
+        let mut bent = Lab::new(World::new(world.settings.clone()));
         let bent_spec = HumanoidSpec {
             joint_rotations: spine_bend(spec.spine, psi.min(JOINT_SPINE_MAX_BEND)),
             ..spec
@@ -359,7 +367,7 @@ fn bend_spine(world: &mut World, spec: HumanoidSpec, psi: f32, move_pelvis: bool
         add_humanoid(&mut bent, &bent_spec);
         for (body, pose) in world.bodies[ragdoll.bodies.clone()]
             .iter_mut()
-            .zip(&bent.bodies)
+            .zip(&bent.world.bodies)
         {
             body.set_pose(pose.position, pose.orientation);
         }
@@ -403,10 +411,11 @@ fn bend_rod(world: &mut World, ragdoll: &Ragdoll, psi: f32, move_pelvis: bool) {
 }
 
 /// Builds the chain scene; returns the potential energy its stretch hides (J).
-fn chain(world: &mut World, method: Method, links: u32, horizontal: bool, stretch_m: f32) -> f32 {
+fn chain(lab: &mut Lab, method: Method, links: u32, horizontal: bool, stretch_m: f32) -> f32 {
     const HALF: f32 = 0.05;
     const RADIUS: f32 = 0.02;
     const MASS: f32 = 1.0;
+    let world = &mut lab.world;
     let top = Vec3::new(0.0, 5.0, 0.0);
     let (along, axis, normal) = if horizontal {
         (Vec3::X, Axis::X, Vec3::Y)
@@ -467,19 +476,19 @@ fn chain(world: &mut World, method: Method, links: u32, horizontal: bool, stretc
         hidden_energy += body.mass * gravity.dot(shift);
         body.set_pose(body.position + shift, body.orientation);
     }
-    group_as_ragdoll(world);
+    let group = group_as_ragdoll(world);
+    lab.ragdolls.push(group);
     hidden_energy.max(0.0)
 }
 
-/// Groups every body and constraint as one ragdoll, so the residual measures cover them.
-fn group_as_ragdoll(world: &mut World) {
-    let group = Ragdoll {
+/// Every body and constraint grouped as one ragdoll, so the residual measures cover them.
+fn group_as_ragdoll(world: &World) -> Ragdoll {
+    Ragdoll {
         name: "chain".into(),
         spine: SpineKind::Chain3,
         bodies: 0..world.bodies.len(),
         constraints: 0..world.constraints.len(),
         skeleton: None,
         target_positions: world.bodies.iter().map(|b| b.position).collect(),
-    };
-    world.ragdolls.push(group);
+    }
 }
