@@ -3,7 +3,8 @@
 //! ```text
 //! scene file (TOML) -> scene::Scene::build -> Lab { world: World (physics only), ragdolls }
 //!                                                |
-//!                        solver::step(world) (fixed iterations, no rerun, no allocation)
+//!        solver::Solver::step: detect once, N substeps x M iterations over rows per kind,
+//!        coloured, scalar or SIMD lanes, on rayon's threads (no rerun, no allocation)
 //!                                                |
 //!                        metrics (residuals, energies)  ->  sim::run (the loop)
 //!                                                |
@@ -13,9 +14,11 @@
 //! Module map:
 //! - [`math`]: glam re-exports, exponential map, swing-twist helpers;
 //! - [`shape`], [`body`]: shapes, mass and inertia, rigid bodies;
-//! - [`constraint`]: one file per constraint kind, dispatched by one `match`;
+//! - [`solver_body`]: the solver's hot 96-byte body; [`lanes`]: W-wide SIMD maths (Lane, V3, Q);
+//! - [`constraint`]: one file per constraint kind (prepare, solve, measure), plus its `*_lanes`
+//!   batched solve;
 //! - [`contact`]: broad phase, narrow phase and contact points with friction;
-//! - [`solver`]: the step, its order written as a numbered list;
+//! - [`solver`]: the step, its order written as a numbered list; [`solver::graph`]: colouring;
 //! - [`world`]: bodies + constraints + contacts + settings, failure detection; physics only;
 //! - [`ragdoll`]: the reference humanoid builder (spines chain3 | single | rod);
 //! - [`skeleton`]: the animation bones posed back from the physics (§6);
@@ -36,6 +39,7 @@ pub mod constraint;
 pub mod contact;
 pub mod kinematics;
 pub mod lab;
+pub mod lanes;
 pub mod math;
 pub mod metrics;
 /// Rapier as a peer engine for the sweep (feature `rapier`).
@@ -48,6 +52,7 @@ pub mod shape;
 pub mod sim;
 pub mod skeleton;
 pub mod solver;
+pub mod solver_body;
 pub mod stress;
 pub mod sweep;
 pub mod world;

@@ -43,7 +43,11 @@ fn setup(slide: f32) -> (Vec<SolverBody>, Vec<ContactPoint>) {
     let mut solver: Vec<SolverBody> = bodies.iter().map(SolverBody::from_body).collect();
     for (i, body) in solver.iter_mut().enumerate().skip(1) {
         // lanes 0-1 stay apart (no push), the others penetrate by up to 3 cm
-        let depth = if i <= 2 { -0.05 } else { 0.005 * i as f32 - 0.01 };
+        let depth = if i <= 2 {
+            -0.05
+        } else {
+            0.005 * i as f32 - 0.01
+        };
         body.position += Vec3::new(slide * (i as f32 - 4.0), -0.01 - depth, 0.3 * slide);
     }
     (solver, points)
@@ -84,8 +88,14 @@ fn compare(slide: f32) {
         println!("slide {slide}, W={width}: position {position:.1e} m, orientation {orientation:.1e} (the solve moved bodies up to {moved:.3} m)");
         assert!(moved > 1e-3, "the setup must make the solve work");
         assert!(position < 1e-5, "W={width}: positions {position} m apart");
-        assert!(orientation < 1e-4, "W={width}: orientations {orientation} apart");
-        assert_eq!(lanes_bodies[0].position, bodies[0].position, "the floor moved");
+        assert!(
+            orientation < 1e-4,
+            "W={width}: orientations {orientation} apart"
+        );
+        assert_eq!(
+            lanes_bodies[0].position, bodies[0].position,
+            "the floor moved"
+        );
     }
 }
 

@@ -30,7 +30,7 @@ use super::parts::{point_along_error, point_block, relative_rotation};
 use super::Violation;
 use crate::body::{Body, BodyId};
 use crate::math::{rotation_vector, Quat, Vec3};
-use crate::solver::body::SolverBody;
+use crate::solver_body::SolverBody;
 
 /// How the point part is solved.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize, Default)]

@@ -2,8 +2,8 @@
 //! constraints at once"): the maths of [`JointRow::solve`] with one joint per lane.
 //!
 //! Per iteration, as the scalar code: spring, limits, point. Every scalar `if` becomes a mask:
-//! each part computes its correction on all lanes and applies it through [`apply_angular`] /
-//! [`apply_positional`], which leave a lane untouched where the scalar code would have returned
+//! each part computes its correction on all lanes and applies it through `apply_angular` /
+//! `apply_positional`, which leave a lane untouched where the scalar code would have returned
 //! early (zero-length error, zero effective mass, a limit not reached, an immovable body). Rows
 //! without a spring get relaxation 0 and rows without a limit get infinite bounds, so their
 //! lanes produce no correction. Per-batch branches only where all lanes agree: the spring and
@@ -15,9 +15,9 @@
 //! not normalise (glam's `try_normalize`) falls back to glam's `any_orthonormal_vector`.
 
 use super::{JointFlavour, JointRow};
+use crate::lanes::{BodyLanes, Lane, SymM3, Q, V3};
 use crate::math::Quat;
-use crate::solver::body::SharedBodies;
-use crate::solver::lanes::{BodyLanes, Lane, SymM3, Q, V3};
+use crate::solver_body::SharedBodies;
 use std::f32::consts::{PI, TAU};
 
 /// Solves `rows` (exactly [`crate::solver::SIMD_WIDTH`] = 4 rows of one colour, which share no
@@ -189,7 +189,7 @@ fn any_perpendicular<L: Lane>(v: V3<L>) -> V3<L> {
     }
 }
 
-/// [`SolverBody::apply_positional_impulse`](crate::solver::body::SolverBody) on the lanes of
+/// [`SolverBody::apply_positional_impulse`](crate::solver_body::SolverBody) on the lanes of
 /// `mask`; the other lanes keep their pose exactly.
 #[inline(always)]
 fn apply_positional<L: Lane>(body: &mut BodyLanes<L>, impulse: V3<L>, r: V3<L>, mask: L) {
@@ -202,7 +202,7 @@ fn apply_positional<L: Lane>(body: &mut BodyLanes<L>, impulse: V3<L>, r: V3<L>, 
     rotate_preview(body, dtheta, mask);
 }
 
-/// [`SolverBody::apply_angular_impulse`](crate::solver::body::SolverBody) on the lanes of `mask`.
+/// [`SolverBody::apply_angular_impulse`](crate::solver_body::SolverBody) on the lanes of `mask`.
 #[inline(always)]
 fn apply_angular<L: Lane>(body: &mut BodyLanes<L>, l: V3<L>, mask: L) {
     let dtheta = body.inverse_inertia.mul_vec(l);

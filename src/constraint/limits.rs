@@ -16,7 +16,7 @@
 
 use super::parts::relative_rotation;
 use crate::math::{angle_between, any_perpendicular, twist_angle, wrap_angle, Quat, Vec3};
-use crate::solver::body::SolverBody;
+use crate::solver_body::SolverBody;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AngularLimit {

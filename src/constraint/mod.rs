@@ -16,7 +16,7 @@ pub use limits::AngularLimit;
 pub use rod::{LengthCorrection, Rod, RodRow, RodState, TwistMode};
 
 use crate::body::{Body, BodyId};
-use crate::solver::body::SolverBody;
+use crate::solver_body::SolverBody;
 
 /// Residual of one constraint after a frame's iterations (paper Fig. 8).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

@@ -7,8 +7,8 @@
 //! momentum, which every part below respects.
 
 use crate::math::{Mat3, Vec3};
-pub use crate::solver::body::pair_mut;
-use crate::solver::body::SolverBody as Body;
+pub use crate::solver_body::pair_mut;
+use crate::solver_body::SolverBody as Body;
 
 /// Scalar projection: removes `relaxation` times the distance `|d|` along `n = d / |d|`, where
 /// `d = anchor_b - anchor_a`. One row of the point constraint; the cross-coupling of the three

@@ -35,7 +35,7 @@ use super::parts::relative_rotation;
 use super::Violation;
 use crate::body::{Body, BodyId};
 use crate::math::{angle_between, any_perpendicular, twist_angle, Quat, Vec3};
-use crate::solver::body::SolverBody;
+use crate::solver_body::SolverBody;
 
 /// How the length constraint (eq. 9) is corrected.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Deserialize)]

@@ -30,11 +30,11 @@
 //! size falls back to the scalar [`RodRow::solve`] row by row, so results stay those of the
 //! scalar reference up to rounding whatever the modes.
 //!
-//! [`SolverBody::apply_angular_impulse`]: crate::solver::body::SolverBody::apply_angular_impulse
+//! [`SolverBody::apply_angular_impulse`]: crate::solver_body::SolverBody::apply_angular_impulse
 
 use super::rod::{LengthCorrection, RodRow, TwistMode};
-use crate::solver::body::SharedBodies;
-use crate::solver::lanes::{BodyLanes, Lane, Q, V3};
+use crate::lanes::{BodyLanes, Lane, Q, V3};
+use crate::solver_body::SharedBodies;
 
 /// Solves a batch of rows that share no movable body: W = 4 or 8 lanes when every row uses the
 /// default modes, else the scalar kernel row by row (see the module docs).

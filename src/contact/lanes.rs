@@ -12,8 +12,8 @@
 //! orientation is rebuilt from the same predicted orientation and correction).
 
 use super::ContactPoint;
-use crate::solver::body::SharedBodies;
-use crate::solver::lanes::{BodyLanes, Lane, V3};
+use crate::lanes::{BodyLanes, Lane, V3};
+use crate::solver_body::SharedBodies;
 
 /// Solves `rows` (one colour's points, sharing no movable body) at the lane width of
 /// [`crate::solver::SIMD_WIDTH`].

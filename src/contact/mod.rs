@@ -30,7 +30,7 @@ pub mod narrowphase;
 use crate::body::{Body, BodyId};
 use crate::constraint::Constraint;
 use crate::math::Vec3;
-use crate::solver::body::{pair_mut, SolverBody};
+use crate::solver_body::{pair_mut, SolverBody};
 use broadphase::BroadPhase;
 use narrowphase::Feature;
 

@@ -40,9 +40,10 @@
 //! of a colour write disjoint bodies. Once warmed up, the step does not allocate: every
 //! vector here is reused from frame to frame.
 
-pub mod body;
 pub mod graph;
-pub mod lanes;
+/// The hot body and the SIMD lanes live below the constraint kinds, which use them; re-exported
+/// here, where they belong to the reader.
+pub use crate::{lanes, solver_body as body};
 
 use crate::body::{Body, BodyKind};
 use crate::constraint::{Constraint, JointRow, RodRow};

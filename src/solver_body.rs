@@ -56,7 +56,7 @@ impl SymMat3 {
 /// One body as the iteration loop sees it: the preview pose x* of the current substep.
 ///
 /// `repr(C)`, 96 bytes without padding, so the SIMD gather can read it as six groups of four
-/// floats and transpose them into lanes ([`crate::solver::lanes::BodyLanes::gather`]).
+/// floats and transpose them into lanes ([`crate::lanes::BodyLanes::gather`]).
 #[derive(Clone, Copy, Debug, Default)]
 #[repr(C)]
 pub struct SolverBody {

@@ -4,11 +4,11 @@
 //! [`Lane`] is a float vector of `W` lanes (`wide::f32x4` or `wide::f32x8`); [`V3`], [`Q`] and
 //! [`SymM3`] are glam's `Vec3`, `Quat` and a symmetric 3x3 matrix with one lane per
 //! constraint. Branches become masks: compute both sides, [`Lane::select`] per lane.
-//! [`BodyLanes`] holds W solver bodies gathered from [`SolverBody`]s by index and is scattered
-//! back after the batch; the body methods mirror the scalar ones on [`SolverBody`].
+//! [`BodyLanes`] holds W solver bodies gathered from [`crate::solver_body::SolverBody`]s by index and is scattered
+//! back after the batch; the body methods mirror the scalar ones on [`crate::solver_body::SolverBody`].
 
-use super::body::{SharedBodies, SymMat3};
 use crate::math::{Quat, Vec3};
+use crate::solver_body::{SharedBodies, SymMat3};
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Sub};
 
 /// Groups of four floats of `W` records turned into four lanes, and back: the transpose that
@@ -475,7 +475,7 @@ impl<L: Lane> BodyLanes<L> {
     /// No other thread may be writing those bodies (see [`SharedBodies`]).
     #[inline(always)]
     pub unsafe fn gather(bodies: SharedBodies, index: &[u32]) -> Self {
-        let mut copies = [super::body::SolverBody::default(); 8];
+        let mut copies = [crate::solver_body::SolverBody::default(); 8];
         for (i, copy) in copies.iter_mut().enumerate().take(L::W) {
             *copy = bodies.read(index[i]);
         }
@@ -554,7 +554,7 @@ impl<L: Lane> BodyLanes<L> {
         self.orientation = self.predicted.rotate_by_small(self.rotation_correction);
     }
 
-    /// [`SolverBody::apply_positional_impulse`] per lane.
+    /// `SolverBody::apply_positional_impulse` per lane.
     #[inline(always)]
     pub fn apply_positional_impulse(&mut self, impulse: V3<L>, r: V3<L>) {
         self.position = self.position + impulse.scale(self.inverse_mass);
@@ -562,13 +562,13 @@ impl<L: Lane> BodyLanes<L> {
         self.rotate_preview(dtheta);
     }
 
-    /// [`SolverBody::apply_linear_impulse`] per lane.
+    /// `SolverBody::apply_linear_impulse` per lane.
     #[inline(always)]
     pub fn apply_linear_impulse(&mut self, impulse: V3<L>) {
         self.position = self.position + impulse.scale(self.inverse_mass);
     }
 
-    /// [`SolverBody::apply_angular_impulse`] per lane.
+    /// `SolverBody::apply_angular_impulse` per lane.
     #[inline(always)]
     pub fn apply_angular_impulse(&mut self, l: V3<L>) {
         let dtheta = self.inverse_inertia.mul_vec(l);
