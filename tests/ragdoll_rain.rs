@@ -1,7 +1,7 @@
-//! The 1000-ragdoll rain (`scenes/ragdoll_rain.toml`): the scene builds, and the fall and the
-//! first impacts (2 s) run without NaN or explosion for both spines with every body centre
-//! above the floor, with the scene's 4 substeps of 4 iterations. The full 10 s is an ignored test:
-//! `cargo test --release --test ragdoll_rain -- --ignored --nocapture`.
+//! The 1000-ragdoll rain (`scenes/ragdoll_rain.toml`): the scene builds, and the full 10 s run
+//! without NaN or explosion for both spines, every body centre above the floor and the mean
+//! dislocation under 1 cm per ragdoll, with the scene's 4 substeps of 4 iterations (SIMD).
+//! `cargo test --release --test ragdoll_rain -- --nocapture` prints steps/s.
 
 use rodlab::lab::Lab;
 use rodlab::ragdoll::SpineKind;
@@ -10,9 +10,9 @@ use rodlab::sim::{self, Overrides};
 
 const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/ragdoll_rain.toml");
 
-/// Runs the rain with one spine for `frames` frames; returns the final lab and the lowest
-/// ragdoll body centre (m) over the run.
-fn rain(spine: SpineKind, frames: u32) -> (Lab, f32) {
+/// Runs the rain with one spine for `frames` frames; returns the final lab, the lowest ragdoll
+/// body centre (m) over the run and the mean dislocation per ragdoll (cm).
+fn rain(spine: SpineKind, frames: u32) -> (Lab, f32, f32) {
     let mut scene = Scene::load(SCENE).unwrap();
     Overrides {
         spine: Some(spine),
@@ -44,11 +44,12 @@ fn rain(spine: SpineKind, frames: u32) -> (Lab, f32) {
     println!(
         "{spine}: {frames} frames in {seconds:.1} s = {:.1} steps/s (with the metrics); mean \
          total dislocation {mean:.0} cm over 1000 ragdolls, deepest penetration {:.1} cm, lowest \
-         body centre {lowest:.3} m",
+         body centre {lowest:.3} m; {:.1} steps/s stepping alone",
         frames as f64 / seconds,
-        report.max_penetration_cm
+        report.max_penetration_cm,
+        report.steps_per_second()
     );
-    (lab, lowest)
+    (lab, lowest, mean / 1000.0)
 }
 
 #[test]
@@ -67,23 +68,19 @@ fn the_scene_builds_a_thousand_ragdolls_and_its_world() {
     assert_eq!(fixed, 193, "the floor and 192 tiled boxes");
 }
 
+/// The whole 10 s for both spines (about 40 s each): no NaN or explosion (`sim::run` stops
+/// with an error), every body centre above the floor, and the scene's cost keeping the mean
+/// dislocation under 1 cm per ragdoll (measured 0.58 cm chain3, 0.46 cm rod).
 #[test]
-fn two_seconds_of_rain_stay_finite_and_above_the_floor() {
+fn ten_seconds_of_rain_stay_finite_above_the_floor_and_under_a_centimetre() {
     for spine in [SpineKind::Chain3, SpineKind::Rod] {
-        let (_, lowest) = rain(spine, 120);
+        let (lab, lowest, mean) = rain(spine, 600);
         // the thinnest limb has a 4 cm radius
         assert!(lowest > 0.0, "{spine}: a body centre reached y = {lowest}");
-    }
-}
-
-/// The whole 10 s for both spines (minutes): `cargo test --release --test ragdoll_rain --
-/// --ignored --nocapture`.
-#[test]
-#[ignore]
-fn ten_seconds_of_rain_stay_finite_and_above_the_floor() {
-    for spine in [SpineKind::Chain3, SpineKind::Rod] {
-        let (lab, lowest) = rain(spine, 600);
-        assert!(lowest > 0.0, "{spine}: a body centre reached y = {lowest}");
+        assert!(
+            mean < 1.0,
+            "{spine}: mean dislocation {mean} cm per ragdoll"
+        );
         let fastest = lab
             .ragdolls
             .iter()
