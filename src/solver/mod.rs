@@ -244,8 +244,15 @@ impl Solver {
         } else {
             bodies.iter_mut().zip(&mut self.bodies).for_each(predict);
         }
-        for row in &mut self.joints {
-            row.begin_substep(bodies);
+        let bodies_now: &[Body] = bodies;
+        if parallel && self.joints.len() >= 2 * PARALLEL_MIN_ROWS {
+            self.joints
+                .par_chunks_mut(PARALLEL_MIN_ROWS)
+                .for_each(|rows| rows.iter_mut().for_each(|r| r.begin_substep(bodies_now)));
+        } else {
+            self.joints
+                .iter_mut()
+                .for_each(|r| r.begin_substep(bodies_now));
         }
         contacts.begin_substep(bodies, h, settings.contact_push_speed);
         // 3.3 fixed iterations, kind by kind, colour by colour
