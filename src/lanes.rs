@@ -73,6 +73,8 @@ pub trait Lane:
     fn from_fn(f: impl FnMut(usize) -> f32) -> Self;
     fn lane(self, i: usize) -> f32;
     fn sqrt(self) -> Self;
+    /// `1 / sqrt(self)` from the hardware estimate (12 bits) and one Newton step (about 22).
+    fn recip_sqrt_newton(self) -> Self;
     fn abs(self) -> Self;
     fn max(self, o: Self) -> Self;
     fn min(self, o: Self) -> Self;
@@ -123,6 +125,11 @@ macro_rules! impl_lane {
             #[inline(always)]
             fn sqrt(self) -> Self {
                 <$t>::sqrt(self)
+            }
+            #[inline(always)]
+            fn recip_sqrt_newton(self) -> Self {
+                let y = <$t>::recip_sqrt(self);
+                y * (<$t>::splat(1.5) - <$t>::splat(0.5) * self * y * y)
             }
             #[inline(always)]
             fn abs(self) -> Self {
@@ -383,8 +390,10 @@ impl<L: Lane> Q<L> {
     }
     #[inline(always)]
     pub fn normalize(self) -> Self {
-        let n = (self.x * self.x + self.y * self.y + self.z * self.z + self.w * self.w).sqrt();
-        let inv = L::splat(1.0) / n;
+        // the quaternions renormalised here are within a small turn of unit length, so the
+        // Newton-refined estimate is as good as a square root and a division, and cheaper
+        let inv = (self.x * self.x + self.y * self.y + self.z * self.z + self.w * self.w)
+            .recip_sqrt_newton();
         Q {
             x: self.x * inv,
             y: self.y * inv,
