@@ -5,18 +5,19 @@
 //!
 //! Two colourings, both in the rows' stored order, both followed by a stable reorder by colour,
 //! so the result depends only on the input (never on timing or thread count):
-//! - [`Order::Kept`] (joints and rods): each row takes the colour after the last colour of any
-//!   row before it on the same movable body (level scheduling). Two rows that share a body are
-//!   then solved in their stored order, and rows that share none commute, so solving colour by
-//!   colour gives exactly the sequential Gauss-Seidel sweep of the paper's solver, at any lane
-//!   width. Identical ragdolls fill the colours evenly: joint j of every ragdoll lands in colour
-//!   j's neighbourhood, and the lanes run across ragdolls. A single chain gets one row per
-//!   colour and gains nothing from lanes; a sweep in red-black order (the greedy colouring)
-//!   would give it lanes but converges visibly slower down a hanging chain (`tests/chain.rs`).
-//! - [`Order::Greedy`] (contact points, whose order is the broad phase's and means nothing):
-//!   each row takes the lowest colour neither of its movable bodies has used yet; a row whose
-//!   bodies have used all [`MAX_COLOURS`] - 1 colours goes to the last, the overflow colour, solved
-//!   one row after another (a crate under a pile).
+//! - [`Order::Kept`], what the solver uses for joints, rods and contact points: each row takes
+//!   the colour after the last colour of any row before it on the same movable body (level
+//!   scheduling). Two rows that share a body are then solved in their stored order, and rows
+//!   that share none commute, so solving colour by colour gives exactly the sequential
+//!   Gauss-Seidel sweep of the paper's solver, at any lane width. Identical ragdolls fill the
+//!   colours evenly (the lanes run across ragdolls). A single chain gets one row per colour and
+//!   gains nothing from lanes.
+//! - [`Order::Greedy`], Box2D's choice, kept for comparison: each row takes the lowest colour
+//!   neither of its movable bodies has used yet; a row whose bodies have used all
+//!   [`MAX_COLOURS`] - 1 colours goes to the last, the overflow colour, solved one row after
+//!   another (a crate under a pile). It gives a chain red-black order and lanes, but a hanging
+//!   chain converged visibly slower (`tests/chain.rs` failed with it), and in the drop it
+//!   changed the chaotic pile's outcome past the rest bounds.
 
 /// Colours of a greedy colouring; the last is the overflow colour.
 pub const MAX_COLOURS: usize = 64;

@@ -14,9 +14,9 @@
 //! 1. contact detection, once per frame, at the current poses (speculative: points are made
 //!    within a margin grown by how far the bodies may travel in the whole frame);
 //! 2. prepare: flatten joints, rods and contact points into rows stored per kind, and colour
-//!    each kind's rows so rows of one colour share no movable body ([`graph`]); joints and
-//!    rods are coloured so that solving by colour is exactly the sequential sweep in their
-//!    stored order (the paper's solver, scalar or SIMD alike), contact points greedily;
+//!    each kind's rows so rows of one colour share no movable body ([`graph`]), in the kept
+//!    order: solving colour by colour is exactly the sequential sweep in stored order (the
+//!    paper's solver), so the scalar and SIMD solvers compute the same thing;
 //! 3. for each substep:
 //!    1. apply gravity and external forces to the linear velocities; update angular
 //!       velocities with the gyroscopic term (implicit, see [`gyroscopic_update`]); apply
@@ -26,9 +26,10 @@
 //!       take the rows' per-substep constants (the limits' starting twist);
 //!    3. `iterations` times: solve the rods, then the joints, then the contact points, each
 //!       kind colour by colour (the humanoid builder appends a ragdoll's rod before its
-//!       joints, so for ragdolls this is their stored order); within a colour rows are independent, so they are solved
-//!       [`SolverKind::Scalar`] one by one or [`SolverKind::Simd`] W at a time, and on
-//!       several threads when a colour is large enough ([`PARALLEL_MIN_ROWS`]);
+//!       joints, so for ragdolls this is their stored order); within a colour rows are
+//!       independent, so they are solved [`SolverKind::Scalar`] one by one or
+//!       [`SolverKind::Simd`] W at a time, and on several threads when a colour is large
+//!       enough ([`PARALLEL_MIN_ROWS`]);
 //!    4. derive the velocities `v = (p* - p) / h`, `w = log(q* q^-1) / h` and commit the poses
 //!       back to the [`Body`]s;
 //!    5. the contacts' velocity pass: each contact that pushed in this substep leaves with zero
