@@ -33,6 +33,9 @@ impl Proxy {
     }
 }
 
+/// Entries from which the sort runs on several threads.
+const PARALLEL_SORT: usize = 32_768;
+
 /// A box spanning more than this many cells on an axis goes to the large list.
 const LARGE_CELLS: f32 = 4.0;
 
@@ -128,7 +131,14 @@ impl BroadPhase {
                 }
             }
         }
-        self.entries.sort_unstable();
+        // (cell, proxy) entries are unique, so any sort gives the same order: a parallel one for
+        // large worlds (about 100 000 entries at 1000 ragdolls)
+        if self.entries.len() >= PARALLEL_SORT && rayon::current_num_threads() > 1 {
+            use rayon::slice::ParallelSliceMut;
+            self.entries.par_sort_unstable();
+        } else {
+            self.entries.sort_unstable();
+        }
 
         let proxies = &self.proxies;
         let candidate = |a: &Proxy, b: &Proxy| (a.dynamic || b.dynamic) && a.overlaps(b);
