@@ -11,6 +11,10 @@
 //! other box, which costs `large x n`. Half-spaces are unbounded and are paired with every
 //! dynamic body.
 //!
+//! Large worlds sort the entries and walk the cells on several threads: the cells are split into
+//! chunks at cell boundaries, each chunk's pairs into a reused buffer, replayed in cell order,
+//! so the pairs and their order do not depend on the thread count (tested).
+//!
 //! Cost: a sort of about `8 n` entries plus the pairs in each cell, so it grows about linearly
 //! with the number of bodies for any layout where bodies do not all crowd into a few cells
 //! (see the `contact_detection` benchmark). A one-axis sweep, which this replaced, grows as
@@ -48,6 +52,9 @@ pub struct BroadPhase {
     large: Vec<u32>,
     /// `(cell key, proxy index)`, sorted by key.
     entries: Vec<(u64, u32)>,
+    /// Where each chunk of `entries` starts (at a cell boundary), and each chunk's pairs.
+    bounds: Vec<usize>,
+    chunk_pairs: Vec<Vec<(u32, u32)>>,
 }
 
 /// The cell index of coordinate `x`: floor without a libm call (x86-64's baseline has no
@@ -142,29 +149,73 @@ impl BroadPhase {
 
         let proxies = &self.proxies;
         let candidate = |a: &Proxy, b: &Proxy| (a.dynamic || b.dynamic) && a.overlaps(b);
-        let mut start = 0;
-        while start < self.entries.len() {
-            let cell_key = self.entries[start].0;
-            let mut end = start + 1;
-            while end < self.entries.len() && self.entries[end].0 == cell_key {
-                end += 1;
-            }
-            let group = &self.entries[start..end];
-            for (i, &(_, first)) in group.iter().enumerate() {
-                let a = &proxies[first as usize];
-                for &(_, second) in &group[i + 1..] {
-                    let b = &proxies[second as usize];
-                    if !candidate(a, b) {
-                        continue;
-                    }
-                    // the overlap's lower corner decides the one cell that reports the pair
-                    let corner = [0, 1, 2].map(|k| cell_of(a.min[k].max(b.min[k]), inverse_cell));
-                    if key(corner) == cell_key {
-                        pair(a.body.min(b.body), a.body.max(b.body));
+        // The cells' pairs, in sorted-cell order. Large worlds split the entries into chunks at
+        // cell boundaries, each into its own reused buffer, replayed in order: the same pairs
+        // in the same order for any thread count.
+        let cells_pairs = |entries: &[(u64, u32)], out: &mut Vec<(u32, u32)>| {
+            out.clear();
+            let mut start = 0;
+            while start < entries.len() {
+                let cell_key = entries[start].0;
+                let mut end = start + 1;
+                while end < entries.len() && entries[end].0 == cell_key {
+                    end += 1;
+                }
+                let group = &entries[start..end];
+                for (i, &(_, first)) in group.iter().enumerate() {
+                    let a = &proxies[first as usize];
+                    for &(_, second) in &group[i + 1..] {
+                        let b = &proxies[second as usize];
+                        if !candidate(a, b) {
+                            continue;
+                        }
+                        // the overlap's lower corner decides the one cell that reports the pair
+                        let corner =
+                            [0, 1, 2].map(|k| cell_of(a.min[k].max(b.min[k]), inverse_cell));
+                        if key(corner) == cell_key {
+                            out.push((a.body.min(b.body), a.body.max(b.body)));
+                        }
                     }
                 }
+                start = end;
             }
-            start = end;
+        };
+        let threads = rayon::current_num_threads();
+        let chunks = if threads > 1 && self.entries.len() >= PARALLEL_SORT {
+            4 * threads
+        } else {
+            1
+        };
+        // chunk boundaries moved forward to the next cell start
+        self.bounds.clear();
+        self.bounds.push(0);
+        for c in 1..chunks {
+            let mut at = (self.entries.len() * c / chunks).max(*self.bounds.last().unwrap());
+            while at > 0 && at < self.entries.len() && self.entries[at].0 == self.entries[at - 1].0
+            {
+                at += 1;
+            }
+            self.bounds.push(at);
+        }
+        self.bounds.push(self.entries.len());
+        if self.chunk_pairs.len() < chunks {
+            self.chunk_pairs.resize_with(chunks, Vec::new);
+        }
+        let entries = &self.entries;
+        let bounds = &self.bounds;
+        if chunks > 1 {
+            use rayon::prelude::*;
+            self.chunk_pairs[..chunks]
+                .par_iter_mut()
+                .enumerate()
+                .for_each(|(c, out)| cells_pairs(&entries[bounds[c]..bounds[c + 1]], out));
+        } else {
+            cells_pairs(entries, &mut self.chunk_pairs[0]);
+        }
+        for out in &self.chunk_pairs[..chunks] {
+            for &(a, b) in out {
+                pair(a, b);
+            }
         }
         for (i, &large) in self.large.iter().enumerate() {
             let a = &proxies[large as usize];
@@ -246,5 +297,46 @@ mod tests {
         }
         assert!(!expected.is_empty());
         assert_eq!(found, expected);
+    }
+
+    /// A world large enough for the parallel sort and chunked cells: the same pairs in the
+    /// same order on one thread and on two.
+    #[test]
+    fn chunked_cells_give_the_same_pairs_on_any_thread_count() {
+        let mut seed = 777u32;
+        let mut random = || {
+            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (seed >> 8) as f32 / (1 << 24) as f32
+        };
+        let bodies: Vec<Body> = (0..12000)
+            .map(|_| {
+                let (x, y, z) = (40.0 * random(), 2.0 * random(), 40.0 * random());
+                ball(x, y, z, 0.1 + 0.2 * random(), BodyKind::Dynamic)
+            })
+            .collect();
+        let pairs = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| {
+                let mut found = Vec::new();
+                let mut broad = BroadPhase::default();
+                broad.find_pairs(&bodies, 1.0 / 60.0, 0.02, |a, b| found.push((a, b)));
+                assert!(
+                    broad.entries.len() >= PARALLEL_SORT,
+                    "{}",
+                    broad.entries.len()
+                );
+                found
+            })
+        };
+        let (one, two) = (pairs(1), pairs(2));
+        assert!(one.len() > 1000, "{} pairs", one.len());
+        assert_eq!(one, two);
+        let mut unique = one.clone();
+        unique.sort_unstable();
+        unique.dedup();
+        assert_eq!(unique.len(), one.len(), "a pair was reported twice");
     }
 }
