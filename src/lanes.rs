@@ -8,7 +8,7 @@
 //! back after the batch; the body methods mirror the scalar ones on [`crate::solver_body::SolverBody`].
 
 use crate::math::{Quat, Vec3};
-use crate::solver_body::{SharedBodies, SymMat3};
+use crate::solver_body::SharedBodies;
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Sub};
 
 /// Groups of four floats of `W` records turned into four lanes, and back: the transpose that
@@ -90,15 +90,6 @@ pub trait Lane:
     #[inline(always)]
     fn zero() -> Self {
         Self::splat(0.0)
-    }
-    /// `1 / self` where `self > 0`, else 0 (a zero effective mass gives no correction).
-    #[inline(always)]
-    fn recip_or_zero(self) -> Self {
-        let positive = self.gt(Self::zero());
-        positive.select(
-            Self::splat(1.0) / self.max(Self::splat(f32::MIN_POSITIVE)),
-            Self::zero(),
-        )
     }
 }
 
@@ -259,11 +250,12 @@ impl<L: Lane> V3<L> {
             z: mask.select(t.z, f.z),
         }
     }
-    /// A unit vector perpendicular to each lane's unit `self` (glam's `any_orthonormal_vector`,
-    /// branch-free: Duff et al. 2017).
+    /// A unit vector perpendicular to each lane's unit `self`: glam's `any_orthonormal_vector`
+    /// (Duff et al. 2017) branch-free, with its `signum`, so `-0.0` counts as negative and the
+    /// lanes pick the scalar code's vector.
     #[inline(always)]
     pub fn any_orthonormal(self) -> Self {
-        let sign = self.z.lt(L::zero()).select(L::splat(-1.0), L::splat(1.0));
+        let sign = (self.z & L::splat(-0.0)) | L::splat(1.0);
         let a = -L::splat(1.0) / (sign + self.z);
         let b = self.x * self.y * a;
         V3 {
@@ -593,19 +585,5 @@ impl<L: Lane> BodyLanes<L> {
     #[inline(always)]
     pub fn angular_inverse_mass(&self, g: V3<L>) -> L {
         g.dot(self.inverse_inertia.mul_vec(g))
-    }
-}
-
-impl SymMat3 {
-    /// Lane `i` of a [`SymM3`].
-    pub fn from_lanes<L: Lane>(m: &SymM3<L>, i: usize) -> SymMat3 {
-        SymMat3 {
-            xx: m.xx.lane(i),
-            yy: m.yy.lane(i),
-            zz: m.zz.lane(i),
-            xy: m.xy.lane(i),
-            xz: m.xz.lane(i),
-            yz: m.yz.lane(i),
-        }
     }
 }

@@ -6,53 +6,6 @@
 use crate::body::Body;
 use crate::math::{rotate_by_small, Mat3, Quat, Vec3};
 
-/// A symmetric 3x3 matrix: the world inverse inertia `R I^-1 R^T` in 6 floats.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct SymMat3 {
-    pub xx: f32,
-    pub yy: f32,
-    pub zz: f32,
-    pub xy: f32,
-    pub xz: f32,
-    pub yz: f32,
-}
-
-impl SymMat3 {
-    /// `R diag(d) R^T`.
-    pub fn rotated_diagonal(rotation: Quat, d: Vec3) -> Self {
-        let r = Mat3::from_quat(rotation);
-        let (c0, c1, c2) = (r.x_axis, r.y_axis, r.z_axis);
-        // entry (i, j) = sum_k r_ik d_k r_jk, with r_ik = column k's component i
-        let e =
-            |i: usize, j: usize| c0[i] * d.x * c0[j] + c1[i] * d.y * c1[j] + c2[i] * d.z * c2[j];
-        SymMat3 {
-            xx: e(0, 0),
-            yy: e(1, 1),
-            zz: e(2, 2),
-            xy: e(0, 1),
-            xz: e(0, 2),
-            yz: e(1, 2),
-        }
-    }
-
-    #[inline(always)]
-    pub fn mul_vec(&self, v: Vec3) -> Vec3 {
-        Vec3::new(
-            self.xx * v.x + self.xy * v.y + self.xz * v.z,
-            self.xy * v.x + self.yy * v.y + self.yz * v.z,
-            self.xz * v.x + self.yz * v.y + self.zz * v.z,
-        )
-    }
-
-    pub fn to_mat3(self) -> Mat3 {
-        Mat3::from_cols(
-            Vec3::new(self.xx, self.xy, self.xz),
-            Vec3::new(self.xy, self.yy, self.yz),
-            Vec3::new(self.xz, self.yz, self.zz),
-        )
-    }
-}
-
 /// One body as the iteration loop sees it: the preview pose x* of the current substep.
 ///
 /// `repr(C)`, 96 bytes without padding, so the SIMD gather can read it as six groups of four

@@ -96,7 +96,7 @@ fn solve_bodies<L: Lane>(rows: &[JointRow], a: &mut BodyLanes<L>, b: &mut BodyLa
         let swing = cross.length().atan2(ax.dot(bx));
         let over = swing.gt(swing_max);
         // glam's try_normalize fails where 1 / |v| is not finite.
-        let (axis, _) = cross.normalize_or(any_perpendicular(ax), 1.0 / f32::MAX);
+        let (axis, _) = cross.normalize_or(ax.any_orthonormal(), 1.0 / f32::MAX);
         // Lanes not over the cone get a zero rotation, which the angle guard skips.
         let amount = over.select(-(swing - swing_max), L::zero());
         relative_rotation(a, b, movable_a, movable_b, axis.scale(amount));
@@ -174,19 +174,6 @@ fn div<L: Lane>(v: V3<L>, s: L) -> V3<L> {
 fn wrap_angle<L: Lane>(a: L) -> L {
     let a = a.gt(L::splat(PI)).select(a - L::splat(TAU), a);
     a.lt(L::splat(-PI)).select(a + L::splat(TAU), a)
-}
-
-/// glam's `any_orthonormal_vector` per lane, with its `signum` (so `-0.0` counts as negative).
-#[inline(always)]
-fn any_perpendicular<L: Lane>(v: V3<L>) -> V3<L> {
-    let sign = (v.z & L::splat(-0.0)) | L::splat(1.0);
-    let a = -L::splat(1.0) / (sign + v.z);
-    let b = v.x * v.y * a;
-    V3 {
-        x: b,
-        y: sign + v.y * v.y * a,
-        z: -v.y,
-    }
 }
 
 /// [`SolverBody::apply_positional_impulse`](crate::solver_body::SolverBody) on the lanes of
