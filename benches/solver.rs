@@ -14,7 +14,8 @@ use rodlab::ragdoll::SpineKind;
 use rodlab::scene::Scene;
 use rodlab::shape::{Axis, Shape};
 use rodlab::sim::{self, NoObserver, Overrides};
-use rodlab::solver::body::{SharedBodies, SolverBody};
+use rodlab::solver::body::{pair_mut, SharedBodies, SolverBody};
+use rodlab::solver::RowBodies;
 use std::time::Instant;
 
 const COUNT: usize = 64;
@@ -107,41 +108,75 @@ const WIDTHS: [(&str, Width); 3] = [
     ("simd8", Width::W8),
 ];
 
-fn solve_joints(rows: &mut [JointRow], bodies: &mut [SolverBody], width: Width) {
-    let shared = SharedBodies::new(bodies);
-    match width {
+/// Solves `rows` once: one by one with the scalar kernel, or W at a time with a lane kernel.
+fn solve_rows<T: RowBodies>(
+    rows: &mut [T],
+    bodies: &mut [SolverBody],
+    width: Width,
+    scalar: fn(&T, &mut SolverBody, &mut SolverBody),
+    lanes: [fn(&mut [T], SharedBodies); 2],
+) {
+    let (kernel, w) = match width {
         Width::Scalar => {
             for row in rows.iter() {
-                let (a, b) = (row.body_a as usize, row.body_b as usize);
-                let (a, b) = rodlab::solver::body::pair_mut(bodies, a, b);
-                row.solve(a, b);
+                let (a, b) = row.bodies();
+                let (a, b) = pair_mut(bodies, a as usize, b as usize);
+                scalar(row, a, b);
             }
+            return;
         }
-        Width::W4 => rows
-            .chunks_exact_mut(4)
-            .for_each(|c| ball_socket_lanes::solve_lanes::<wide::f32x4>(c, shared)),
-        Width::W8 => rows
-            .chunks_exact_mut(8)
-            .for_each(|c| ball_socket_lanes::solve_lanes::<wide::f32x8>(c, shared)),
-    }
+        Width::W4 => (lanes[0], 4),
+        Width::W8 => (lanes[1], 8),
+    };
+    let shared = SharedBodies::new(bodies);
+    rows.chunks_exact_mut(w).for_each(|c| kernel(c, shared));
 }
 
-fn solve_rods(rows: &mut [RodRow], bodies: &mut [SolverBody], width: Width) {
-    let shared = SharedBodies::new(bodies);
-    match width {
-        Width::Scalar => {
-            for row in rows.iter() {
-                let (a, b) = (row.body_a as usize, row.body_b as usize);
-                let (a, b) = rodlab::solver::body::pair_mut(bodies, a, b);
-                row.solve(a, b);
+/// One benchmarked batch: `COUNT` independent constraints of one kind and their bodies.
+#[derive(Clone)]
+enum Batch {
+    Joints(Vec<SolverBody>, Vec<JointRow>),
+    Rods(Vec<SolverBody>, Vec<RodRow>),
+}
+
+impl Batch {
+    /// Joints of a flavour, with or without limits; `None`: rods.
+    fn new(joint: Option<(JointFlavour, bool)>) -> Self {
+        match joint {
+            Some((flavour, limits)) => {
+                let (bodies, rows) = dislocated_joints(flavour, limits);
+                Batch::Joints(bodies, rows)
+            }
+            None => {
+                let (bodies, rows) = perturbed_rods();
+                Batch::Rods(bodies, rows)
             }
         }
-        Width::W4 => rows
-            .chunks_exact_mut(4)
-            .for_each(|c| rod_lanes::solve_lanes::<wide::f32x4>(c, shared)),
-        Width::W8 => rows
-            .chunks_exact_mut(8)
-            .for_each(|c| rod_lanes::solve_lanes::<wide::f32x8>(c, shared)),
+    }
+
+    fn solve(&mut self, width: Width) {
+        match self {
+            Batch::Joints(bodies, rows) => solve_rows(
+                rows,
+                bodies,
+                width,
+                JointRow::solve,
+                [
+                    ball_socket_lanes::solve_lanes::<wide::f32x4>,
+                    ball_socket_lanes::solve_lanes::<wide::f32x8>,
+                ],
+            ),
+            Batch::Rods(bodies, rows) => solve_rows(
+                rows,
+                bodies,
+                width,
+                RodRow::solve,
+                [
+                    rod_lanes::solve_lanes::<wide::f32x4>,
+                    rod_lanes::solve_lanes::<wide::f32x8>,
+                ],
+            ),
+        }
     }
 }
 
@@ -159,30 +194,15 @@ fn constraint_solves(c: &mut Criterion) {
     let mut group = c.benchmark_group("constraint_solve");
     group.throughput(Throughput::Elements(COUNT as u64));
     for (label, joint) in cases() {
+        let batch = Batch::new(joint);
         for (solver, width) in WIDTHS {
-            let name = format!("{label}/{solver}");
-            match joint {
-                Some((flavour, limits)) => {
-                    let (bodies, rows) = dislocated_joints(flavour, limits);
-                    group.bench_function(&name, |b| {
-                        b.iter_batched_ref(
-                            || (bodies.clone(), rows.clone()),
-                            |(bodies, rows)| solve_joints(rows, bodies, width),
-                            BatchSize::SmallInput,
-                        )
-                    });
-                }
-                None => {
-                    let (bodies, rows) = perturbed_rods();
-                    group.bench_function(&name, |b| {
-                        b.iter_batched_ref(
-                            || (bodies.clone(), rows.clone()),
-                            |(bodies, rows)| solve_rods(rows, bodies, width),
-                            BatchSize::SmallInput,
-                        )
-                    });
-                }
-            }
+            group.bench_function(format!("{label}/{solver}"), |b| {
+                b.iter_batched_ref(
+                    || batch.clone(),
+                    |batch| batch.solve(width),
+                    BatchSize::SmallInput,
+                )
+            });
         }
     }
     group.finish();
@@ -206,33 +226,17 @@ fn summary() {
     );
     let mut table = Vec::new();
     for (label, joint) in cases() {
+        let batch = Batch::new(joint);
         let mut row = Vec::new();
         for (_, width) in WIDTHS {
-            let ns = match joint {
-                Some((flavour, limits)) => {
-                    let (bodies, rows) = dislocated_joints(flavour, limits);
-                    ns_per_solve(|| {
-                        let (mut b, mut r) = (bodies.clone(), rows.clone());
-                        let start = Instant::now();
-                        solve_joints(&mut r, &mut b, width);
-                        let t = start.elapsed();
-                        std::hint::black_box(&b);
-                        t
-                    })
-                }
-                None => {
-                    let (bodies, rows) = perturbed_rods();
-                    ns_per_solve(|| {
-                        let (mut b, mut r) = (bodies.clone(), rows.clone());
-                        let start = Instant::now();
-                        solve_rods(&mut r, &mut b, width);
-                        let t = start.elapsed();
-                        std::hint::black_box(&b);
-                        t
-                    })
-                }
-            };
-            row.push(ns);
+            row.push(ns_per_solve(|| {
+                let mut fresh = batch.clone();
+                let start = Instant::now();
+                fresh.solve(width);
+                let time = start.elapsed();
+                std::hint::black_box(&fresh);
+                time
+            }));
         }
         println!(
             "{:<20} {:>8.1} {:>8.1} {:>8.1}",
