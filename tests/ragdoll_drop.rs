@@ -65,8 +65,8 @@ fn thirty_ragdolls_land_and_settle_and_the_rod_spine_leaves_less_residual() {
             100.0 * resting
         );
         // Nearly at rest: a few limbs caught between stair boxes and other ragdolls still
-        // twitch, mostly twisting about their long axis (measured: fastest centre 0.20 m/s
-        // chain3, 0.25 m/s rod; fastest surface point 0.64 and 0.52 m/s; 98.5% and 98.2% of
+        // twitch, mostly twisting about their long axis (measured: fastest centre 0.14 m/s
+        // chain3, 0.06 m/s rod; fastest surface point 0.57 and 0.65 m/s; 98.2% and 99.4% of
         // bodies under 0.2 m/s everywhere; these move by a few tenths with any change to the
         // order contacts are found in, so the bounds leave room).
         assert!(
