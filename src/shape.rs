@@ -1,6 +1,6 @@
 //! Collision and mass shapes, in body space with the centre of mass at the origin.
 
-use crate::math::Vec3;
+use crate::math::{Quat, Vec3};
 use serde::Deserialize;
 
 /// Local axis of a capsule.
@@ -91,6 +91,27 @@ impl Shape {
         }
     }
 
+    /// Half-size of the tightest world axis-aligned box around the shape at `orientation`,
+    /// centred on the body's origin (the broad phase's boxes): a capsule's is its segment's
+    /// extent plus the radius, a box's is `|R| h`. Infinite for a half-space.
+    pub fn world_half_extents(&self, orientation: Quat) -> Vec3 {
+        match *self {
+            Shape::Sphere { radius } => Vec3::splat(radius),
+            Shape::Capsule {
+                half_height,
+                radius,
+                axis,
+            } => (orientation * (half_height * axis.unit())).abs() + Vec3::splat(radius),
+            Shape::Cuboid { half_extents } => {
+                let r = crate::math::Mat3::from_quat(orientation);
+                r.x_axis.abs() * half_extents.x
+                    + r.y_axis.abs() * half_extents.y
+                    + r.z_axis.abs() * half_extents.z
+            }
+            Shape::HalfSpace => Vec3::INFINITY,
+        }
+    }
+
     /// Half-size of an axis-aligned box around the shape in body space (for drawing and checks).
     pub fn bounding_radius(&self) -> f32 {
         match *self {
@@ -129,5 +150,36 @@ mod tests {
         .principal_inertia(1.0);
         assert!((rod.y - 100.0 / 12.0).abs() / (100.0 / 12.0) < 1e-3);
         assert!(rod.x < 1e-6);
+    }
+
+    /// The world box is tight: it holds every surface point of a tumbled capsule and box, and
+    /// on each axis some surface point reaches its face.
+    #[test]
+    fn world_box_is_tight_around_rotated_shapes() {
+        let orientation = Quat::from_axis_angle(Vec3::new(1.0, 2.0, -0.5).normalize(), 0.9);
+        let capsule = Shape::Capsule {
+            half_height: 0.3,
+            radius: 0.1,
+            axis: Axis::Z,
+        };
+        let cuboid = Shape::Cuboid {
+            half_extents: Vec3::new(0.4, 0.1, 0.25),
+        };
+        let capsule_points = (0..=20).flat_map(|i| {
+            let centre = orientation * Vec3::new(0.0, 0.0, -0.3 + 0.03 * i as f32);
+            [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z].map(|d| centre + 0.1 * d)
+        });
+        let corners = (0..8).map(|i| {
+            let sign = |bit: u32| if i >> bit & 1 == 1 { 1.0 } else { -1.0 };
+            orientation * (Vec3::new(sign(0), sign(1), sign(2)) * Vec3::new(0.4, 0.1, 0.25))
+        });
+        let check = |shape: Shape, points: Vec<Vec3>| {
+            let half = shape.world_half_extents(orientation);
+            let reach = points.iter().fold(Vec3::ZERO, |m, p| m.max(p.abs()));
+            assert!((reach - half).max_element() < 1e-5, "{reach} outside {half}");
+            assert!((half - reach).max_element() < 1e-5, "{half} looser than {reach}");
+        };
+        check(capsule, capsule_points.collect());
+        check(cuboid, corners.collect());
     }
 }

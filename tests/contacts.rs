@@ -350,3 +350,74 @@ fn ball_rebounds_to_e_squared_of_its_drop_height() {
         );
     }
 }
+
+/// Regression (the drop's twitching limbs): a chain of three limb-sized capsules lying on the
+/// floor, joined end to end on their axes, starting with a slow tumble, comes to rest. Contact
+/// impulses used to act at the contact's body-space points turned with the body, so a capsule
+/// spinning about its axis carried its floor contact off the line of the normal and the
+/// push-out spun it further: this chain spun up to 22 rad/s about the capsule axes, sank 6 mm
+/// into the floor and rolled away at 1.3 m/s, for ever. Impulses now act at lever arms fixed
+/// when the contact is found (measured: every axial spin under 0.03 rad/s after 10 s).
+#[test]
+fn capsules_lying_on_the_floor_do_not_spin_up() {
+    use rodlab::constraint::{BallSocket, JointFlavour};
+    let mut world = World::new(Settings {
+        iterations: 20,
+        linear_damping: 0.05,
+        angular_damping: 0.5,
+        ..settings()
+    });
+    plane(&mut world, Quat::IDENTITY);
+    // capsule axis (body y) along world -x
+    let lying = Quat::from_rotation_z(std::f32::consts::FRAC_PI_2);
+    let (half, radius) = (0.18, 0.04);
+    let ids: Vec<_> = (0..3)
+        .map(|i| {
+            let mut body = Body::new(
+                format!("limb{i}"),
+                BodyKind::Dynamic,
+                Shape::Capsule {
+                    half_height: half,
+                    radius,
+                    axis: Axis::Y,
+                },
+                1.7,
+            )
+            .with_pose(Vec3::new(0.44 * i as f32, radius, 0.0), lying);
+            body.angular_velocity = Vec3::new(0.3, 0.5 * (i as f32 + 1.0), 0.2);
+            world.add_body(body)
+        })
+        .collect();
+    for i in 1..3 {
+        let anchor = Vec3::new(0.44 * i as f32 - 0.22, radius, 0.0);
+        let joint = BallSocket::at_world_anchor(
+            format!("joint{i}"),
+            &world.bodies,
+            ids[i - 1],
+            ids[i],
+            anchor,
+            Quat::IDENTITY,
+        )
+        .with_flavour(JointFlavour::Cheap);
+        world.add_constraint(joint);
+    }
+    let mut lowest = f32::INFINITY;
+    for _ in 0..600 {
+        world.step().unwrap();
+        for &id in &ids {
+            lowest = lowest.min(world.body(id).position.y);
+        }
+    }
+    for &id in &ids {
+        let body = world.body(id);
+        let axial = (body.orientation.inverse() * body.angular_velocity).y;
+        assert!(axial.abs() < 0.1, "{}: spins at {axial} rad/s about its axis", body.name);
+        assert!(
+            body.linear_velocity.length() < 0.01,
+            "{}: still moves at {} m/s",
+            body.name,
+            body.linear_velocity.length()
+        );
+    }
+    assert!(lowest > radius - 0.002, "a capsule sank to y = {lowest}");
+}

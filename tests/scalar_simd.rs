@@ -1,10 +1,10 @@
-//! The SIMD solve computes the scalar solve's maths W rows at a time, in the same order (the
-//! colours keep each body's rows in stored order), so the two agree up to rounding (wide's
+//! The SIMD solve computes the scalar solve's maths W rows at a time, in the same order (both
+//! sweep the same coloured rows), so the two agree up to rounding (wide's
 //! atan2 and sin_cos are not libm's): after 60 frames the bodies' positions agree within 5 mm
 //! (measured 1.2 mm passive bending, 0.1 mm controllability) and the residual means within 1%
 //! (measured 0.17% and 0.08%). The drop is chaotic: nudging one body by 1 um in the scalar
 //! run moves bodies by about 0.5 m within 60 frames (measured: 4e-5 m at frame 10, 1e-2 m at
-//! 40, 0.46 m at 60), so there the SIMD run must stay within twice what that nudge does, in
+//! 40, 0.46 m at 60), so there the SIMD run must stay within twice what such nudges do, in
 //! positions and in the residual mean. A thread count never changes a result: the drop's final
 //! state is bit-identical with 1 and 2 threads.
 
@@ -76,38 +76,47 @@ fn controllability_agrees() {
     agree("controllability", 60, 5e-3);
 }
 
+/// The drop is chaotic: after 60 frames a 1 um nudge of one body moves the pile by decimetres and
+/// the residual mean by a few per cent. So the SIMD run is held to the spread of four nudged
+/// scalar runs (four different bodies nudged): no farther from the scalar run than twice the
+/// farthest nudge, in positions and in the residual mean (or within 1%). Measured: SIMD 0.46 m
+/// and 3.4% from scalar, the nudges up to 0.43 m and 4.6%.
 #[test]
 fn drop_agrees_within_its_own_chaos() {
     let scene = scene("ragdoll_drop");
     let frames = 60;
     let (scalar, scalar_report) = run(&scene, SolverKind::Scalar, frames);
     let (simd, simd_report) = run(&scene, SolverKind::Simd, frames);
-    let mut nudged = scene.build().unwrap();
-    let bodies = &mut nudged.world.bodies;
-    let first = bodies.iter().position(|b| b.is_dynamic()).unwrap();
-    let (p, q) = (bodies[first].position, bodies[first].orientation);
-    bodies[first].set_pose(p + rodlab::math::Vec3::new(1e-6, 0.0, 0.0), q);
-    let nudged_report = sim::run(&mut nudged, frames, &mut NoObserver).unwrap();
-    let (gap, chaos) = (
-        largest_gap(&scalar, &simd),
-        largest_gap(&scalar, &nudged.world),
-    );
     let d = mean_dislocation(&scalar_report);
     let apart = |r: &RunReport| (mean_dislocation(r) - d).abs() / d;
-    let (simd_apart, nudged_apart) = (apart(&simd_report), apart(&nudged_report));
+    let (mut chaos, mut nudged_apart) = (0.0f32, 0.0f64);
+    for k in 0..4 {
+        let mut nudged = scene.build().unwrap();
+        let bodies = &mut nudged.world.bodies;
+        let (body, _) = (bodies.iter().enumerate())
+            .filter(|(_, b)| b.is_dynamic())
+            .nth(37 * k)
+            .unwrap();
+        let (p, q) = (bodies[body].position, bodies[body].orientation);
+        bodies[body].set_pose(p + rodlab::math::Vec3::new(1e-6, 0.0, 0.0), q);
+        let report = sim::run(&mut nudged, frames, &mut NoObserver).unwrap();
+        chaos = chaos.max(largest_gap(&scalar, &nudged.world));
+        nudged_apart = nudged_apart.max(apart(&report));
+    }
+    let (gap, simd_apart) = (largest_gap(&scalar, &simd), apart(&simd_report));
     println!(
-        "drop: after {frames} frames simd is {gap:.3} m from scalar, a 1 um nudge {chaos:.3} m; \
-         residual means {:.2}% and {:.2}% apart",
+        "drop: after {frames} frames simd is {gap:.3} m from scalar, 1 um nudges up to \
+         {chaos:.3} m; residual means {:.2}% apart, the nudges' up to {:.2}%",
         100.0 * simd_apart,
         100.0 * nudged_apart
     );
     assert!(
         gap < 2.0 * chaos + 0.01,
-        "simd {gap} m from scalar, the nudge {chaos} m"
+        "simd {gap} m from scalar, the nudges {chaos} m"
     );
     assert!(
         simd_apart < 0.01f64.max(2.0 * nudged_apart),
-        "residual means {simd_apart} apart, the nudge's {nudged_apart}"
+        "residual means {simd_apart} apart, the nudges' {nudged_apart}"
     );
 }
 

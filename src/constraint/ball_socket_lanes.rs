@@ -90,19 +90,23 @@ fn solve_bodies<L: Lane>(rows: &[JointRow], a: &mut BodyLanes<L>, b: &mut BodyLa
         let frame_a = Q::from_fn(|i| rows[i].frame_a);
         let frame_b = Q::from_fn(|i| rows[i].frame_b);
 
-        let ax = a.orientation.mul(frame_a).x_axis();
-        let bx = b.orientation.mul(frame_b).x_axis();
+        let mut fa = a.orientation.mul(frame_a);
+        let mut fb = b.orientation.mul(frame_b);
+        let (ax, bx) = (fa.x_axis(), fb.x_axis());
         let cross = ax.cross(bx);
         let swing = cross.length().atan2(ax.dot(bx));
         let over = swing.gt(swing_max);
-        // glam's try_normalize fails where 1 / |v| is not finite.
-        let (axis, _) = cross.normalize_or(ax.any_orthonormal(), 1.0 / f32::MAX);
-        // Lanes not over the cone get a zero rotation, which the angle guard skips.
-        let amount = over.select(-(swing - swing_max), L::zero());
-        relative_rotation(a, b, movable_a, movable_b, axis.scale(amount));
+        // Lanes not over the cone would get a zero rotation, which the angle guard skips: a
+        // batch with none over (most of the time) skips the part, bit for bit the same.
+        if over.any() {
+            // glam's try_normalize fails where 1 / |v| is not finite.
+            let (axis, _) = cross.normalize_or(ax.any_orthonormal(), 1.0 / f32::MAX);
+            let amount = over.select(-(swing - swing_max), L::zero());
+            relative_rotation(a, b, movable_a, movable_b, axis.scale(amount));
+            fa = a.orientation.mul(frame_a);
+            fb = b.orientation.mul(frame_b);
+        }
 
-        let fa = a.orientation.mul(frame_a);
-        let fb = b.orientation.mul(frame_b);
         let r = fa.conjugate().mul(fb);
         let twist = wrap_angle(L::splat(2.0) * r.x.atan2(r.w));
         let unwrapped = start_twist + wrap_angle(twist - start_twist);
@@ -112,8 +116,10 @@ fn solve_bodies<L: Lane>(rows: &[JointRow], a: &mut BodyLanes<L>, b: &mut BodyLa
                 .lt(twist_min)
                 .select(unwrapped - twist_min, L::zero()),
         );
-        // `excess != 0` is the angle guard's business: a zero excess gives a zero rotation.
-        relative_rotation(a, b, movable_a, movable_b, fb.x_axis().scale(-excess));
+        // A zero excess gives a zero rotation, which the angle guard skips (as above).
+        if (excess.lt(L::zero()) | excess.gt(L::zero())).any() {
+            relative_rotation(a, b, movable_a, movable_b, fb.x_axis().scale(-excess));
+        }
     }
 
     // Point: the dislocation at the freshest poses, cheap (one row along the error) or exact

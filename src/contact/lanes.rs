@@ -44,11 +44,13 @@ pub fn solve_lanes<L: Lane>(rows: &mut [ContactPoint], bodies: SharedBodies) {
     let mut normal_impulse = L::from_fn(|i| rows[i].normal_impulse);
     let zero = L::zero();
 
-    // 1. non-penetration
-    let ra = a.orientation.rotate(local_a);
-    let rb = b.orientation.rotate(local_b);
+    // 1. non-penetration: measured at the turned points, pushed at the fixed lever arms
+    let point_a = a.position + a.orientation.rotate(local_a);
+    let point_b = b.position + b.orientation.rotate(local_b);
     let allowed = L::from_fn(|i| rows[i].allowed_penetration);
-    let separation = ((b.position + rb) - (a.position + ra)).dot(n) + allowed;
+    let separation = (point_b - point_a).dot(n) + allowed;
+    let ra = V3::<L>::from_fn(|i| rows[i].arm_a);
+    let rb = V3::<L>::from_fn(|i| rows[i].arm_b);
     let w = a.positional_inverse_mass(ra, n) + b.positional_inverse_mass(rb, n);
     let active = w.gt(zero) & (separation.lt(zero) | normal_impulse.gt(zero));
     let total = (normal_impulse - separation / w.max(L::splat(f32::MIN_POSITIVE))).max(zero);
@@ -67,9 +69,8 @@ pub fn solve_lanes<L: Lane>(rows: &mut [ContactPoint], bodies: SharedBodies) {
         let anchor_b = V3::<L>::from_fn(|i| rows[i].anchor_b);
         let static_friction = L::from_fn(|i| rows[i].static_friction);
         let dynamic_friction = L::from_fn(|i| rows[i].dynamic_friction);
-        let ra = a.orientation.rotate(anchor_a);
-        let rb = b.orientation.rotate(anchor_b);
-        let slip = (b.position + rb) - (a.position + ra);
+        let slip = (b.position + b.orientation.rotate(anchor_b))
+            - (a.position + a.orientation.rotate(anchor_a));
         let tangential = slip - n.scale(slip.dot(n));
         let length = tangential.length();
         let moving = length.gt(L::splat(1e-9));

@@ -5,7 +5,9 @@
 //! before they could pass. Each contact point keeps its world normal `n` (from a to b) and its
 //! two surface points in body space for the step; each iteration measures the separation
 //! `C = (p_b - p_a) . n` at the preview poses and, when negative, pushes the points apart
-//! along `n` (non-penetration, `C >= 0`).
+//! along `n` (non-penetration, `C >= 0`). The pushes act at lever arms fixed when the point is
+//! found (Box2D v3's fixed anchors), not at the turned body-space points: see
+//! `ContactPoint::arm_a`.
 //!
 //! Coulomb friction at position level: the tangential slip of the two points is removed while
 //! the friction impulse stays within `mu_s` times the normal impulse accumulated this step
@@ -50,6 +52,15 @@ pub struct ContactPoint {
     pub static_friction: f32,
     pub dynamic_friction: f32,
     pub restitution: f32,
+    /// Lever arms (world offsets of the points from the body centres when found), fixed for
+    /// the step: impulses act there, as Box2D v3's fixed anchors. The separation and the slip
+    /// are measured at the body-space points as the bodies turn, but an impulse at a turned
+    /// point would tilt the lever arm with the body: a capsule spinning about its axis carries
+    /// its contact point off the line of the normal, and the push out of the floor then spins it
+    /// further (axial spin grew to 170 rad/s in the drop without joint limits, and to 5-40
+    /// rad/s with them: the twitching limbs of a settled pile).
+    arm_a: Vec3,
+    arm_b: Vec3,
     /// Friction anchors in body space: where the points were when the contact began to stick.
     anchor_a: Vec3,
     anchor_b: Vec3,
@@ -78,9 +89,10 @@ impl ContactPoint {
 
     pub fn solve(&mut self, a: &mut SolverBody, b: &mut SolverBody) {
         let n = self.normal;
-        let ra = a.orientation * self.local_a;
-        let rb = b.orientation * self.local_b;
-        let separation = ((b.position + rb) - (a.position + ra)).dot(n) + self.allowed_penetration;
+        let point_a = a.position + a.orientation * self.local_a;
+        let point_b = b.position + b.orientation * self.local_b;
+        let separation = (point_b - point_a).dot(n) + self.allowed_penetration;
+        let (ra, rb) = (self.arm_a, self.arm_b);
         // Projected Gauss-Seidel on the step's accumulated impulse: push while penetrating, and
         // give back what earlier iterations pushed too far, but never pull (total >= 0).
         let w = a.positional_inverse_mass(ra, n) + b.positional_inverse_mass(rb, n);
@@ -95,9 +107,8 @@ impl ContactPoint {
             return;
         }
         // friction: tangential slip of the anchors
-        let ra = a.orientation * self.anchor_a;
-        let rb = b.orientation * self.anchor_b;
-        let slip = (b.position + rb) - (a.position + ra);
+        let slip = (b.position + b.orientation * self.anchor_b)
+            - (a.position + a.orientation * self.anchor_a);
         let tangential = slip - slip.dot(n) * n;
         let length = tangential.length();
         if length < 1e-9 {
@@ -129,8 +140,10 @@ impl ContactPoint {
 #[derive(Clone, Debug, Default)]
 pub struct Contacts {
     pub points: Vec<ContactPoint>,
-    /// Last step's points, sorted by body pair, for their friction anchors.
+    /// Last step's points, for their friction anchors, and their `(body pair, index)` sorted:
+    /// sorting the keys rather than the 130-byte points (a tenth of detection in the rain).
     previous: Vec<ContactPoint>,
+    previous_by_pair: Vec<(u64, u32)>,
     broad_phase: BroadPhase,
     pairs: Vec<(u32, u32)>,
     chunks: Vec<ChunkOut>,
@@ -148,9 +161,13 @@ impl Contacts {
             self.build_exclusions(bodies.len(), constraints);
         }
         std::mem::swap(&mut self.points, &mut self.previous);
-        // stable: the solver reorders points by colour but keeps a pair's points in the order
-        // they were found, which decides which one hands over its anchors
-        self.previous.sort_by_key(|p| (p.body_a.0, p.body_b.0));
+        // the index breaks ties: the solver reorders points by colour but keeps a pair's points
+        // in the order they were found, which decides which one hands over its anchors
+        self.previous_by_pair.clear();
+        self.previous_by_pair.extend(
+            (self.previous.iter().enumerate()).map(|(i, p)| (pair_key(p.body_a, p.body_b), i as u32)),
+        );
+        self.previous_by_pair.sort_unstable();
         self.points.clear();
         self.pairs.clear();
         let pairs = &mut self.pairs;
@@ -170,6 +187,7 @@ impl Contacts {
         let found = PairContext {
             bodies,
             previous: &self.previous,
+            previous_by_pair: &self.previous_by_pair,
             excluded: &self.excluded,
             excluded_start: &self.excluded_start,
             dt,
@@ -267,8 +285,8 @@ impl Contacts {
     pub fn velocity_pass(&self, bodies: &mut [Body], threshold: f32) {
         for p in self.points.iter().filter(|p| p.normal_impulse > 0.0) {
             let (a, b) = pair_mut(bodies, p.body_a.index(), p.body_b.index());
-            let (pa, pb) = (a.world_point(p.local_a), b.world_point(p.local_b));
-            let (ra, rb) = (pa - a.position, pb - b.position);
+            let (ra, rb) = (p.arm_a, p.arm_b);
+            let (pa, pb) = (a.position + ra, b.position + rb);
             let now = relative_normal_velocity(a, b, pa, pb, p.normal);
             let bounce = p.restitution > 0.0 && p.approach_speed < -threshold;
             let target = if bounce {
@@ -304,6 +322,11 @@ fn relative_normal_velocity(a: &Body, b: &Body, point_a: Vec3, point_b: Vec3, no
     (velocity(b, point_b) - velocity(a, point_a)).dot(normal)
 }
 
+/// A body pair as one sortable key, `a` in the high half.
+fn pair_key(a: BodyId, b: BodyId) -> u64 {
+    (a.0 as u64) << 32 | b.0 as u64
+}
+
 /// Pairs with at least this many candidates run the narrow phase on several threads.
 const PARALLEL_PAIRS: usize = 2048;
 
@@ -318,6 +341,7 @@ struct ChunkOut {
 struct PairContext<'a> {
     bodies: &'a [Body],
     previous: &'a [ContactPoint],
+    previous_by_pair: &'a [(u64, u32)],
     excluded: &'a [u32],
     excluded_start: &'a [u32],
     dt: f32,
@@ -351,18 +375,16 @@ impl PairContext<'_> {
             let dynamic_friction = (body_a.dynamic_friction * body_b.dynamic_friction).sqrt();
             let restitution = body_a.restitution.max(body_b.restitution);
             let previous = {
-                let start = self
-                    .previous
-                    .partition_point(|p| (p.body_a.0, p.body_b.0) < (a, b));
-                let end = self
-                    .previous
-                    .partition_point(|p| (p.body_a.0, p.body_b.0) <= (a, b));
-                &self.previous[start..end]
+                let key = pair_key(BodyId(a), BodyId(b));
+                let by_pair = self.previous_by_pair;
+                let start = by_pair.partition_point(|&(k, _)| k < key);
+                let end = start + by_pair[start..].partition_point(|&(k, _)| k == key);
+                by_pair[start..end].iter().map(|&(_, i)| &self.previous[i as usize])
             };
             for f in &out.features {
                 let local_a = body_a.orientation.inverse() * (f.point_a - body_a.position);
                 let local_b = body_b.orientation.inverse() * (f.point_b - body_b.position);
-                let kept = previous.iter().find(|p| {
+                let kept = previous.clone().find(|p| {
                     p.sticking
                         && p.local_a.distance(local_a) < ANCHOR_REACH
                         && p.local_b.distance(local_b) < ANCHOR_REACH
@@ -375,6 +397,8 @@ impl PairContext<'_> {
                     normal: f.normal,
                     local_a,
                     local_b,
+                    arm_a: f.point_a - body_a.position,
+                    arm_b: f.point_b - body_b.position,
                     anchor_a,
                     anchor_b,
                     sticking: true,

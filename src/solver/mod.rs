@@ -14,9 +14,11 @@
 //! 1. contact detection, once per frame, at the current poses (speculative: points are made
 //!    within a margin grown by how far the bodies may travel in the whole frame);
 //! 2. prepare: flatten joints, rods and contact points into rows stored per kind, and colour
-//!    each kind's rows so rows of one colour share no movable body ([`graph`]), in the kept
-//!    order: solving colour by colour is exactly the sequential sweep in stored order (the
-//!    paper's solver), so the scalar and SIMD solvers compute the same thing;
+//!    each kind's rows so rows of one colour share no movable body ([`graph`]). Joints and
+//!    rods keep their stored order (solving colour by colour is exactly the paper's sequential
+//!    sweep); contact points, whose order is only the broad phase's, take the greedy colouring
+//!    (few, full colours). Either way both solvers sweep the same reordered rows, so the scalar
+//!    and SIMD solvers compute the same thing;
 //! 3. for each substep:
 //!    1. apply gravity and external forces to the linear velocities; update angular
 //!       velocities with the gyroscopic term (implicit, see [`gyroscopic_update`]); apply
@@ -213,7 +215,7 @@ impl Solver {
             |r| (r.body_a, r.body_b),
         );
         self.colouring.colour(
-            Order::Kept,
+            Order::Greedy,
             &mut contacts.points,
             &mut self.contact_scratch,
             &mut self.contact_colours,
