@@ -1,6 +1,7 @@
 //! Criterion benchmarks for the contacts issue: one 20-iteration step of the 30-ragdoll drop
 //! (mid-fall, in the pile) per spine, and the broad phase plus narrow phase (`detect`) at 10,
-//! 100 and 1000 ragdolls standing on a grid. Run with `cargo bench --bench drop`.
+//! 100 and 1000 ragdolls standing on a grid, and one step of 1000 boxes resting on the floor,
+//! asleep and awake (what sleeping saves). Run with `cargo bench --bench drop`.
 
 use criterion::{criterion_group, criterion_main, BatchSize, BenchmarkId, Criterion, Throughput};
 use rodlab::body::{Body, BodyKind};
@@ -75,5 +76,46 @@ fn broad_phase_scaling(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, drop_step, broad_phase_scaling);
+/// 1000 boxes resting on the floor, 0.5 m apart, 20 iterations; stepped 1 s so that with
+/// sleeping on every box is asleep (asserted), then one step timed with sleeping on and off.
+fn sleeping(c: &mut Criterion) {
+    let mut group = c.benchmark_group("sleeping_1000_boxes_step");
+    group.sample_size(20);
+    for sleep in [true, false] {
+        let mut world = World::new(Settings {
+            contacts: true,
+            sleep,
+            ..Settings::default()
+        });
+        world.add_body(Body::new("floor", BodyKind::Fixed, Shape::HalfSpace, 1.0));
+        let half = Vec3::new(0.2, 0.1, 0.15);
+        for i in 0..1000 {
+            let position = Vec3::new(0.5 * (i % 32) as f32, half.y, 0.5 * (i / 32) as f32);
+            world.add_body(
+                Body::new(
+                    format!("box{i}"),
+                    BodyKind::Dynamic,
+                    Shape::Cuboid { half_extents: half },
+                    4.0,
+                )
+                .with_pose(position, Quat::IDENTITY),
+            );
+        }
+        for _ in 0..60 {
+            world.step().unwrap();
+        }
+        assert_eq!(world.awake_bodies, if sleep { 0 } else { 1000 });
+        let name = if sleep { "asleep" } else { "awake" };
+        group.bench_function(name, |b| {
+            b.iter_batched_ref(
+                || world.clone(),
+                |w| w.step().unwrap(),
+                BatchSize::LargeInput,
+            )
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, drop_step, broad_phase_scaling, sleeping);
 criterion_main!(benches);

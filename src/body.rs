@@ -64,6 +64,13 @@ pub struct Body {
     /// (two tilts make a twist) that build up into spin.
     pub(crate) predicted_orientation: Quat,
     pub(crate) rotation_correction: Vec3,
+    // --- Sleeping (see [`crate::sleep`]) ---
+    /// Out of the step until its island wakes: no integration, no rows, immovable to others.
+    pub(crate) asleep: bool,
+    /// How long (s) the body has stayed under the sleep speed.
+    pub(crate) still_for: f32,
+    /// The island it fell asleep with (a body index, the island's union-find root).
+    pub(crate) sleep_island: u32,
 }
 
 impl Body {
@@ -94,6 +101,9 @@ impl Body {
             preview_orientation: Quat::IDENTITY,
             predicted_orientation: Quat::IDENTITY,
             rotation_correction: Vec3::ZERO,
+            asleep: false,
+            still_for: 0.0,
+            sleep_island: 0,
         };
         body.set_pose(Vec3::ZERO, Quat::IDENTITY);
         body
@@ -104,8 +114,10 @@ impl Body {
         self
     }
 
-    /// Teleports the body (current and preview pose).
+    /// Teleports the body (current and preview pose), waking it (its island wakes next step).
     pub fn set_pose(&mut self, position: Vec3, orientation: Quat) {
+        self.asleep = false;
+        self.still_for = 0.0;
         self.position = position;
         self.orientation = orientation.normalize();
         self.preview_position = self.position;
@@ -128,6 +140,16 @@ impl Body {
 
     pub fn is_dynamic(&self) -> bool {
         self.kind == BodyKind::Dynamic
+    }
+
+    /// Whether the body is asleep (see [`crate::sleep`]); only dynamic bodies sleep.
+    pub fn is_asleep(&self) -> bool {
+        self.asleep
+    }
+
+    /// A dynamic body that is awake: the solver moves it.
+    pub fn is_awake_dynamic(&self) -> bool {
+        self.kind == BodyKind::Dynamic && !self.asleep
     }
 
     pub fn inverse_mass(&self) -> f32 {

@@ -119,6 +119,9 @@ pub struct OverrideArgs {
     /// Row solver: scalar or simd.
     #[arg(long, value_parser = parse_choice::<SolverKind>)]
     pub solver: Option<SolverKind>,
+    /// Sleeping of still islands: true or false (default: the scene's `sleep`).
+    #[arg(long)]
+    pub sleep: Option<bool>,
     /// Worker threads of the solver; default rayon's (one per core).
     #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
     pub threads: Option<u64>,
@@ -174,6 +177,7 @@ impl From<&OverrideArgs> for Overrides {
             iterations: a.iterations,
             substeps: a.substeps,
             solver: a.solver,
+            sleep: a.sleep,
             dt: a.dt,
             frames: a.frames,
             spine: a.spine,
@@ -610,6 +614,7 @@ pub fn record_scene(scene: &Scene, rec: rerun::RecordingStream) -> anyhow::Resul
             total_dislocation_cm: Vec::new(),
             max_penetration_cm: 0.0,
             step_seconds: 0.0,
+            awake_bodies: Vec::new(),
         });
     }
     let mut lab = scene.build()?;
@@ -836,6 +841,7 @@ pub fn print_summary(name: &str, scene: &Scene, report: &RunReport) {
             "  deepest contact penetration: {:.3} cm",
             report.max_penetration_cm
         );
+        print_sleep(scene, report);
         return;
     }
     println!(
@@ -866,6 +872,7 @@ pub fn print_summary(name: &str, scene: &Scene, report: &RunReport) {
             report.max_penetration_cm
         );
     }
+    print_sleep(scene, report);
     for (i, rod) in report.final_rods.iter().enumerate() {
         println!(
             "  rod {i}: final psi {:.3} rad, tau {:.3} rad, length violation {:.4} cm, curve violation {:.5} rad",
@@ -875,4 +882,20 @@ pub fn print_summary(name: &str, scene: &Scene, report: &RunReport) {
             rod.curve_error
         );
     }
+}
+
+/// With sleeping on: the awake bodies at the end, and the first frame with none awake.
+fn print_sleep(scene: &Scene, report: &RunReport) {
+    if !scene.def.sleep {
+        return;
+    }
+    let last = report.awake_bodies.last().copied().unwrap_or(0);
+    let all_asleep = report.awake_bodies.iter().position(|&n| n == 0);
+    println!(
+        "  sleeping: {last} dynamic bodies awake at the end{}",
+        all_asleep.map_or(String::new(), |f| format!(
+            "; all asleep from frame {}",
+            f + 1
+        ))
+    );
 }

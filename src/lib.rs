@@ -19,6 +19,7 @@
 //!   batched solve;
 //! - [`contact`]: broad phase, narrow phase and contact points with friction;
 //! - [`solver`]: the step, its order written as a numbered list; [`solver::graph`]: colouring;
+//! - [`sleep`]: islands of still bodies taken out of the step;
 //! - [`world`]: bodies + constraints + contacts + settings, failure detection; physics only;
 //! - [`ragdoll`]: the reference humanoid builder (spines chain3 | single | rod);
 //! - [`skeleton`]: the animation bones posed back from the physics (§6);
@@ -51,6 +52,7 @@ pub mod scene;
 pub mod shape;
 pub mod sim;
 pub mod skeleton;
+pub mod sleep;
 pub mod solver;
 pub mod solver_body;
 pub mod stress;

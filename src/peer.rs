@@ -29,8 +29,8 @@
 //!   swing]` on the y and z axes, instead of the cone;
 //! - the iteration knob is `IntegrationParameters::num_solver_iterations`, which in Rapier 0.36
 //!   is a number of substeps (TGS soft, one PGS iteration each), not of Gauss-Seidel sweeps;
-//! - sleeping is off (rodlab has none, and a sleeping pile would cost Rapier nothing); Rapier's
-//!   other defaults (speed caps, joint softness, contact softness, warm starting) stay on.
+//! - sleeping is off (the paper's scenes run rodlab without it, and a sleeping pile would cost
+//!   Rapier nothing); Rapier's other defaults (speed caps, joint softness, contact softness, warm starting) stay on.
 //!
 //! Not mapped: rod constraints (the paper's rod has no Rapier counterpart), so a scene with a
 //! rod spine is refused.

@@ -13,6 +13,8 @@
 //! - `metrics/dislocation_cm/<ragdoll>`, `metrics/angular_rad/<ragdoll>`: residual scalars, one
 //!   plot per measure with one series per ragdoll so spines compare in one plot;
 //! - `metrics/energy/{kinetic,potential,total}`: energy (J);
+//! - `metrics/awake_bodies`: dynamic bodies awake, with sleeping on (sleeping bodies are drawn
+//!   in their colour faded toward grey);
 //! - `scene`: the scene file (static), `failure`: why a run stopped early, if it did.
 //!
 //! Timelines: `frame` (sequence, 0 = initial state) and `sim_time` (seconds).
@@ -62,6 +64,7 @@ pub fn blueprint(scene: &Scene) -> Blueprint {
             series("Bones (cm)", "metrics/bones"),
             series("Totals", "metrics/total"),
             series("Penetration (cm)", "metrics/penetration_cm"),
+            series("Awake bodies", "metrics/awake_bodies"),
         ]);
         Vertical::new([
             series("Dislocation (cm)", "metrics/dislocation_cm"),
@@ -106,6 +109,60 @@ struct BodyBatch {
     local_offsets: Vec<(Vec3, Quat)>,
     translations: Vec<[f32; 3]>,
     rotations: Vec<rerun::Quaternion>,
+    /// With sleeping on, the awake colours, and the sleep state last logged (colours are then
+    /// logged per frame when a body's state changes, instead of once as static data).
+    colors: Vec<rerun::Color>,
+    logged_asleep: Vec<bool>,
+}
+
+/// Body shapes take their colours as static data, unless the colours are per frame (empty).
+trait WithColors: Sized {
+    fn colors(self, colors: Vec<rerun::Color>) -> Self;
+}
+
+macro_rules! with_colors {
+    ($($t:ty),*) => {$(
+        impl WithColors for $t {
+            fn colors(self, colors: Vec<rerun::Color>) -> Self {
+                self.with_colors(colors)
+            }
+        }
+    )*};
+}
+with_colors!(rerun::Capsules3D, rerun::Ellipsoids3D, rerun::Boxes3D);
+
+fn with_colors_if_any<T: WithColors>(shapes: T, colors: Vec<rerun::Color>) -> T {
+    if colors.is_empty() {
+        shapes
+    } else {
+        shapes.colors(colors)
+    }
+}
+
+/// With sleeping on, the batch's colours when any body's sleep state changed since they were
+/// last logged (sleeping bodies faded); empty otherwise.
+fn sleep_colors(batch: &mut BodyBatch, world: &crate::world::World) -> Vec<rerun::Color> {
+    if batch.colors.is_empty() {
+        return Vec::new();
+    }
+    let asleep = batch.bodies.iter().map(|&id| world.body(id).is_asleep());
+    if batch.logged_asleep.len() == batch.bodies.len()
+        && asleep.clone().eq(batch.logged_asleep.iter().copied())
+    {
+        return Vec::new();
+    }
+    batch.logged_asleep.clear();
+    batch.logged_asleep.extend(asleep);
+    (batch.colors.iter().zip(&batch.logged_asleep))
+        .map(|(&c, &asleep)| if asleep { asleep_color(c) } else { c })
+        .collect()
+}
+
+/// A sleeping body's colour: its own, faded toward grey.
+fn asleep_color(c: rerun::Color) -> rerun::Color {
+    let [r, g, b, _] = c.to_array();
+    let fade = |x: u8| (x as u16 * 2 / 5 + 90) as u8;
+    rerun::Color::from_rgb(fade(r), fade(g), fade(b))
 }
 
 /// Streams a lab (its world and ragdolls) into a Rerun recording; plugs into [`crate::sim::run`] as its observer.
@@ -179,6 +236,8 @@ impl Recorder {
                     local_offsets: vec![offset],
                     translations: Vec::new(),
                     rotations: Vec::new(),
+                    colors: Vec::new(),
+                    logged_asleep: Vec::new(),
                 }),
             }
         }
@@ -220,7 +279,7 @@ impl Recorder {
                 )
             })
             .collect();
-        let recorder = Recorder {
+        let mut recorder = Recorder {
             rec,
             options: scene.def.record.clone(),
             batches,
@@ -241,7 +300,7 @@ impl Recorder {
         &self.rec
     }
 
-    fn log_static(&self, lab: &Lab, scene: &Scene) -> anyhow::Result<()> {
+    fn log_static(&mut self, lab: &Lab, scene: &Scene) -> anyhow::Result<()> {
         let world = &lab.world;
         let rec = &self.rec;
         rec.log_static("world", &rerun::ViewCoordinates::RIGHT_HAND_Y_UP())?;
@@ -276,7 +335,7 @@ impl Recorder {
             &rerun::Boxes3D::from_centers_and_half_sizes([[0.0, -0.005, 0.0]], [[3.0, 0.005, 3.0]])
                 .with_colors([rerun::Color::from_rgb(120, 120, 120)]),
         )?;
-        for batch in &self.batches {
+        for batch in &mut self.batches {
             let color_of = |id: BodyId| {
                 let body = world.body(id);
                 match (body.is_dynamic(), lab.ragdoll_of(id)) {
@@ -285,7 +344,11 @@ impl Recorder {
                     (true, None) => rerun::Color::from_rgb(200, 160, 60),
                 }
             };
-            let colors: Vec<_> = batch.bodies.iter().map(|&id| color_of(id)).collect();
+            let mut colors: Vec<_> = batch.bodies.iter().map(|&id| color_of(id)).collect();
+            if world.settings.sleep {
+                // per frame instead: static data would shadow the sleep colours
+                batch.colors = std::mem::take(&mut colors);
+            }
             let labels: Vec<String> = batch
                 .bodies
                 .iter()
@@ -313,14 +376,11 @@ impl Recorder {
                             _ => unreachable!("batches hold one shape kind"),
                         })
                         .unzip();
-                    rec.log_static(
-                        batch.entity.as_str(),
-                        &rerun::Capsules3D::from_lengths_and_radii(lengths, radii)
-                            .with_colors(colors)
-                            .with_fill_mode(rerun::components::FillMode::Solid)
-                            .with_labels(labels)
-                            .with_show_labels(false),
-                    )?;
+                    let shapes = rerun::Capsules3D::from_lengths_and_radii(lengths, radii)
+                        .with_fill_mode(rerun::components::FillMode::Solid)
+                        .with_labels(labels)
+                        .with_show_labels(false);
+                    rec.log_static(batch.entity.as_str(), &with_colors_if_any(shapes, colors))?;
                 }
                 Shape::HalfSpace => unreachable!("half-spaces are not batched"),
                 Shape::Sphere { .. } => {
@@ -329,14 +389,11 @@ impl Recorder {
                         .iter()
                         .map(|&id| world.body(id).shape.bounding_radius())
                         .collect();
-                    rec.log_static(
-                        batch.entity.as_str(),
-                        &rerun::Ellipsoids3D::from_radii(radii)
-                            .with_colors(colors)
-                            .with_fill_mode(rerun::components::FillMode::Solid)
-                            .with_labels(labels)
-                            .with_show_labels(false),
-                    )?;
+                    let shapes = rerun::Ellipsoids3D::from_radii(radii)
+                        .with_fill_mode(rerun::components::FillMode::Solid)
+                        .with_labels(labels)
+                        .with_show_labels(false);
+                    rec.log_static(batch.entity.as_str(), &with_colors_if_any(shapes, colors))?;
                 }
                 Shape::Cuboid { .. } => {
                     let half_sizes: Vec<[f32; 3]> = batch
@@ -347,14 +404,11 @@ impl Recorder {
                             _ => unreachable!("batches hold one shape kind"),
                         })
                         .collect();
-                    rec.log_static(
-                        batch.entity.as_str(),
-                        &rerun::Boxes3D::from_half_sizes(half_sizes)
-                            .with_colors(colors)
-                            .with_fill_mode(rerun::components::FillMode::Solid)
-                            .with_labels(labels)
-                            .with_show_labels(false),
-                    )?;
+                    let shapes = rerun::Boxes3D::from_half_sizes(half_sizes)
+                        .with_fill_mode(rerun::components::FillMode::Solid)
+                        .with_labels(labels)
+                        .with_show_labels(false);
+                    rec.log_static(batch.entity.as_str(), &with_colors_if_any(shapes, colors))?;
                 }
             }
         }
@@ -389,26 +443,36 @@ impl Recorder {
                         .rotations
                         .push(rerun::Quaternion::from_xyzw(q.to_array()));
                 }
+                let colors = sleep_colors(batch, world);
                 let entity = batch.entity.as_str();
                 match world.body(batch.bodies[0]).shape {
                     Shape::Capsule { .. } => rec.log(
                         entity,
-                        &rerun::Capsules3D::update_fields()
-                            .with_translations(batch.translations.iter().copied())
-                            .with_quaternions(batch.rotations.iter().copied()),
+                        &with_colors_if_any(
+                            rerun::Capsules3D::update_fields()
+                                .with_translations(batch.translations.iter().copied())
+                                .with_quaternions(batch.rotations.iter().copied()),
+                            colors,
+                        ),
                     )?,
                     Shape::HalfSpace => unreachable!("half-spaces are not batched"),
                     Shape::Sphere { .. } => rec.log(
                         entity,
-                        &rerun::Ellipsoids3D::update_fields()
-                            .with_centers(batch.translations.iter().copied())
-                            .with_quaternions(batch.rotations.iter().copied()),
+                        &with_colors_if_any(
+                            rerun::Ellipsoids3D::update_fields()
+                                .with_centers(batch.translations.iter().copied())
+                                .with_quaternions(batch.rotations.iter().copied()),
+                            colors,
+                        ),
                     )?,
                     Shape::Cuboid { .. } => rec.log(
                         entity,
-                        &rerun::Boxes3D::update_fields()
-                            .with_centers(batch.translations.iter().copied())
-                            .with_quaternions(batch.rotations.iter().copied()),
+                        &with_colors_if_any(
+                            rerun::Boxes3D::update_fields()
+                                .with_centers(batch.translations.iter().copied())
+                                .with_quaternions(batch.rotations.iter().copied()),
+                            colors,
+                        ),
                     )?,
                 }
             }
@@ -470,6 +534,12 @@ impl Recorder {
             rec.log(
                 "metrics/energy/total",
                 &rerun::Scalars::single(metrics.total_energy() as f64),
+            )?;
+        }
+        if world.settings.sleep {
+            self.rec.log(
+                "metrics/awake_bodies",
+                &rerun::Scalars::single(world.awake_bodies as f64),
             )?;
         }
         if world.frame % FLUSH_EVERY_FRAMES == 0 {

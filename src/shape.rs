@@ -176,8 +176,14 @@ mod tests {
         let check = |shape: Shape, points: Vec<Vec3>| {
             let half = shape.world_half_extents(orientation);
             let reach = points.iter().fold(Vec3::ZERO, |m, p| m.max(p.abs()));
-            assert!((reach - half).max_element() < 1e-5, "{reach} outside {half}");
-            assert!((half - reach).max_element() < 1e-5, "{half} looser than {reach}");
+            assert!(
+                (reach - half).max_element() < 1e-5,
+                "{reach} outside {half}"
+            );
+            assert!(
+                (half - reach).max_element() < 1e-5,
+                "{half} looser than {reach}"
+            );
         };
         check(capsule, capsule_points.collect());
         check(cuboid, corners.collect());

@@ -41,6 +41,7 @@ pub struct Overrides {
     pub iterations: Option<u32>,
     pub substeps: Option<u32>,
     pub solver: Option<SolverKind>,
+    pub sleep: Option<bool>,
     pub dt: Option<f32>,
     pub frames: Option<u32>,
     pub spine: Option<SpineKind>,
@@ -60,6 +61,9 @@ impl Overrides {
         }
         if let Some(v) = self.solver {
             def.solver = v;
+        }
+        if let Some(v) = self.sleep {
+            def.sleep = v;
         }
         if let Some(v) = self.dt {
             def.dt = v;
@@ -107,6 +111,8 @@ pub struct RunReport {
     pub max_penetration_cm: f32,
     /// Wall time (s) spent in `World::step` alone: no measuring, no observer (recording).
     pub step_seconds: f64,
+    /// Per frame, the dynamic bodies awake after it (all of them unless sleeping is on).
+    pub awake_bodies: Vec<u32>,
 }
 
 impl RunReport {
@@ -137,6 +143,7 @@ pub fn run(lab: &mut Lab, frames: u32, observer: &mut dyn Observer) -> anyhow::R
     let mut total_dislocation_cm = Vec::with_capacity(frames as usize);
     let mut max_penetration_cm = 0.0f32;
     let mut step_seconds = 0.0f64;
+    let mut awake_bodies = Vec::with_capacity(frames as usize);
     for _ in 0..frames {
         let started = std::time::Instant::now();
         let stepped = lab.step();
@@ -147,6 +154,7 @@ pub fn run(lab: &mut Lab, frames: u32, observer: &mut dyn Observer) -> anyhow::R
         }
         metrics.measure(lab);
         total_dislocation_cm.push(metrics.totals().0);
+        awake_bodies.push(lab.world.awake_bodies as u32);
         max_penetration_cm = max_penetration_cm.max(metrics.max_penetration_cm);
         for (report, residual) in ragdolls.iter_mut().zip(&metrics.ragdolls) {
             report.summary.add(*residual);
@@ -162,5 +170,6 @@ pub fn run(lab: &mut Lab, frames: u32, observer: &mut dyn Observer) -> anyhow::R
         total_dislocation_cm,
         max_penetration_cm,
         step_seconds,
+        awake_bodies,
     })
 }

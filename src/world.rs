@@ -4,6 +4,7 @@
 use crate::body::{Body, BodyId};
 use crate::constraint::Constraint;
 use crate::contact::Contacts;
+use crate::sleep::Islands;
 use crate::solver::Solver;
 
 pub use crate::solver::{
@@ -18,6 +19,10 @@ pub struct World {
     pub contacts: Contacts,
     /// The solver's reused per-step storage (hot bodies, rows per kind, colours).
     pub solver: Solver,
+    /// The sleep pass's reused storage.
+    pub islands: Islands,
+    /// Dynamic bodies awake after the last step (all of them unless sleeping is on).
+    pub awake_bodies: usize,
     /// Frames stepped so far.
     pub frame: u64,
     /// Simulated time (s).
@@ -93,7 +98,17 @@ impl World {
         );
         self.frame += 1;
         self.time += self.settings.dt as f64;
-        self.check_health()
+        self.check_health()?;
+        // 5. sleeping: islands that stayed still leave the step, reached ones come back
+        self.awake_bodies = if self.settings.sleep {
+            let (dt, bodies) = (self.settings.dt, &mut self.bodies);
+            self.islands
+                .update(dt, bodies, &self.constraints, &self.contacts)
+        } else {
+            self.islands.wake_all(&mut self.bodies);
+            self.bodies.iter().filter(|b| b.is_dynamic()).count()
+        };
+        Ok(())
     }
 
     pub fn kinetic_energy(&self) -> f32 {

@@ -411,7 +411,11 @@ fn capsules_lying_on_the_floor_do_not_spin_up() {
     for &id in &ids {
         let body = world.body(id);
         let axial = (body.orientation.inverse() * body.angular_velocity).y;
-        assert!(axial.abs() < 0.1, "{}: spins at {axial} rad/s about its axis", body.name);
+        assert!(
+            axial.abs() < 0.1,
+            "{}: spins at {axial} rad/s about its axis",
+            body.name
+        );
         assert!(
             body.linear_velocity.length() < 0.01,
             "{}: still moves at {} m/s",
@@ -420,4 +424,135 @@ fn capsules_lying_on_the_floor_do_not_spin_up() {
         );
     }
     assert!(lowest > radius - 0.002, "a capsule sank to y = {lowest}");
+}
+
+fn sleepy_box(world: &mut World, name: &str, position: Vec3) -> rodlab::body::BodyId {
+    world.add_body(
+        Body::new(
+            name,
+            BodyKind::Dynamic,
+            Shape::Cuboid {
+                half_extents: Vec3::new(0.2, 0.1, 0.15),
+            },
+            4.0,
+        )
+        .with_pose(position, Quat::IDENTITY),
+    )
+}
+
+/// Sleeping (issue 10): a box resting on the floor falls asleep once it has been still for
+/// 0.5 s and then does not move at all; a ball dropped on it wakes it, and once the ball rests
+/// on top the two fall asleep again, as one island.
+#[test]
+fn a_resting_box_sleeps_a_falling_ball_wakes_it_and_both_sleep_again() {
+    use rodlab::sleep::TIME_TO_SLEEP;
+    let mut world = World::new(Settings {
+        sleep: true,
+        ..settings()
+    });
+    plane(&mut world, Quat::IDENTITY);
+    let crate_ = sleepy_box(&mut world, "crate", Vec3::new(0.0, 0.1, 0.0));
+    let ball = world.add_body(
+        Body::new(
+            "ball",
+            BodyKind::Dynamic,
+            Shape::Sphere { radius: 0.1 },
+            1.0,
+        )
+        .with_pose(Vec3::new(0.05, 8.0, 0.0), Quat::IDENTITY),
+    );
+    let mut fell_asleep = None;
+    for frame in 1..=60 {
+        world.step().unwrap();
+        if fell_asleep.is_none() && world.body(crate_).is_asleep() {
+            fell_asleep = Some(frame);
+        }
+    }
+    // still from the first frame: asleep after 0.5 s (30 frames), give or take one
+    let frame = fell_asleep.expect("the crate never fell asleep");
+    let expected = (TIME_TO_SLEEP * 60.0).round() as i32;
+    assert!((frame - expected).abs() <= 1, "asleep at frame {frame}");
+    assert!(
+        !world.body(ball).is_asleep(),
+        "the falling ball fell asleep"
+    );
+    assert_eq!(world.awake_bodies, 1, "the ball alone is awake");
+    // asleep, the crate does not move by a bit while the ball falls
+    let pose = (world.body(crate_).position, world.body(crate_).orientation);
+    let mut woke = None;
+    for frame in 61..=300 {
+        world.step().unwrap();
+        let body = world.body(crate_);
+        if woke.is_some() {
+            continue;
+        }
+        if body.is_asleep() {
+            assert_eq!(
+                (body.position, body.orientation),
+                pose,
+                "a sleeping body moved"
+            );
+        } else {
+            woke = Some(frame);
+        }
+    }
+    // the ball falls 7.8 m in about 1.26 s (frame 76): it wakes the crate when it lands
+    let woke = woke.expect("the ball never woke the crate");
+    assert!((74..=80).contains(&woke), "woke at frame {woke}");
+    for _ in 0..120 {
+        world.step().unwrap();
+    }
+    let (c, b) = (world.body(crate_), world.body(ball));
+    assert!(
+        c.is_asleep() && b.is_asleep(),
+        "not asleep again after 2 s at rest"
+    );
+    assert!(
+        (b.position.y - 0.3).abs() < 0.01,
+        "ball at y = {}",
+        b.position.y
+    );
+    assert_eq!(world.awake_bodies, 0);
+}
+
+/// Joined bodies sleep as one island and wake as one: a force on one wakes the other through
+/// the joint, and the pair moves off; with sleeping off nothing ever sleeps.
+#[test]
+fn joined_bodies_sleep_and_wake_together() {
+    use rodlab::constraint::BallSocket;
+    for sleep in [true, false] {
+        let mut world = World::new(Settings {
+            sleep,
+            ..settings()
+        });
+        plane(&mut world, Quat::IDENTITY);
+        let a = sleepy_box(&mut world, "a", Vec3::new(0.0, 0.1, 0.0));
+        let b = sleepy_box(&mut world, "b", Vec3::new(0.45, 0.1, 0.0));
+        let anchor = Vec3::new(0.225, 0.1, 0.0);
+        let joint =
+            BallSocket::at_world_anchor("hinge", &world.bodies, a, b, anchor, Quat::IDENTITY);
+        world.add_constraint(joint);
+        for _ in 0..60 {
+            world.step().unwrap();
+        }
+        let asleep = |w: &World| (w.body(a).is_asleep(), w.body(b).is_asleep());
+        if !sleep {
+            assert_eq!(asleep(&world), (false, false), "asleep with sleeping off");
+            continue;
+        }
+        assert_eq!(asleep(&world), (true, true));
+        world.body_mut(a).external_force = Vec3::new(200.0, 0.0, 0.0);
+        world.step().unwrap();
+        // a wakes at once (its force); b wakes a frame later, through the joint
+        world.step().unwrap();
+        assert_eq!(asleep(&world), (false, false), "the pair did not wake");
+        for _ in 0..30 {
+            world.step().unwrap();
+        }
+        assert!(
+            world.body(b).position.x > 0.5,
+            "b did not follow: {}",
+            world.body(b).position
+        );
+    }
 }

@@ -29,6 +29,9 @@ use crate::shape::Shape;
 #[derive(Clone, Copy, Debug, Default)]
 struct Proxy {
     body: u32,
+    /// Moves this step: an awake dynamic body or a kinematic body with a velocity.
+    active: bool,
+    /// A dynamic body, awake or asleep: something a contact can move or wake.
     dynamic: bool,
     min: [f32; 3],
     max: [f32; 3],
@@ -91,7 +94,8 @@ fn key(cell: [i64; 3]) -> u64 {
 
 impl BroadPhase {
     /// Calls `pair(a, b)` for every candidate pair (a < b in the world's order for finite pairs;
-    /// the half-space first for half-space pairs). At least one body of each pair is dynamic.
+    /// the half-space first for half-space pairs). At least one body of each pair is dynamic,
+    /// and one moves (awake dynamic, or kinematic with a velocity).
     pub fn find_pairs(
         &mut self,
         bodies: &[Body],
@@ -122,6 +126,9 @@ impl BroadPhase {
             proxy.min = (body.position - half).to_array();
             proxy.max = (body.position + half).to_array();
             proxy.dynamic = body.kind == BodyKind::Dynamic;
+            proxy.active = body.is_awake_dynamic()
+                || (body.kind == BodyKind::Kinematic
+                    && (body.linear_velocity != Vec3::ZERO || body.angular_velocity != Vec3::ZERO));
             if body.kind != BodyKind::Fixed {
                 extent_sum += half.max_element();
                 movable += 1;
@@ -163,7 +170,11 @@ impl BroadPhase {
         }
 
         let proxies = &self.proxies;
-        let candidate = |a: &Proxy, b: &Proxy| (a.dynamic || b.dynamic) && a.overlaps(b);
+        // a pair needs a body that moves and a body that can be moved or woken: no pairs
+        // inside a sleeping island or between sleeping and static bodies
+        let candidate = |a: &Proxy, b: &Proxy| {
+            (a.active || b.active) && (a.dynamic || b.dynamic) && a.overlaps(b)
+        };
         // The cells' pairs, in sorted-cell order. Large worlds split the entries into chunks at
         // cell boundaries, each into its own reused buffer, replayed in order: the same pairs
         // in the same order for any thread count.
@@ -181,7 +192,11 @@ impl BroadPhase {
                 // most of the broad phase)
                 let group = &mut out.group;
                 group.clear();
-                group.extend(entries[start..end].iter().map(|&(_, i)| proxies[i as usize]));
+                group.extend(
+                    entries[start..end]
+                        .iter()
+                        .map(|&(_, i)| proxies[i as usize]),
+                );
                 group.sort_unstable_by(|a, b| a.min[0].total_cmp(&b.min[0]));
                 for (i, a) in group.iter().enumerate() {
                     for b in &group[i + 1..] {
@@ -256,7 +271,7 @@ impl BroadPhase {
             let plane_body = &bodies[plane as usize];
             let normal = plane_body.orientation * Vec3::Y;
             let height = normal.dot(plane_body.position);
-            for proxy in self.proxies.iter().filter(|p| p.dynamic) {
+            for proxy in self.proxies.iter().filter(|p| p.dynamic && p.active) {
                 // the box's lowest corner along the normal: above the plane, no contact
                 let centre = 0.5 * (Vec3::from(proxy.min) + Vec3::from(proxy.max));
                 let half = 0.5 * (Vec3::from(proxy.max) - Vec3::from(proxy.min));
@@ -326,8 +341,7 @@ mod tests {
         for a in 0..bodies.len() {
             for b in a + 1..bodies.len() {
                 let (p, q) = (&bodies[a], &bodies[b]);
-                let reach =
-                    |body: &Body| body.shape.world_half_extents(body.orientation) + 0.02;
+                let reach = |body: &Body| body.shape.world_half_extents(body.orientation) + 0.02;
                 let apart = ((p.position - q.position).abs() - reach(p) - reach(q)).max_element();
                 let dynamic = p.kind == BodyKind::Dynamic || q.kind == BodyKind::Dynamic;
                 if apart <= 0.0 && dynamic {
@@ -385,14 +399,21 @@ mod tests {
                 if super::super::narrowphase::collide(p, q, reach, &mut features) {
                     contacts += 1;
                     let pair = (a as u32, b as u32);
-                    assert!(found.contains(&pair), "pair {pair:?} has a contact but was culled");
+                    assert!(
+                        found.contains(&pair),
+                        "pair {pair:?} has a contact but was culled"
+                    );
                 }
             }
         }
         assert!(contacts > 50, "{contacts} pairs in contact");
         // and it does cull: 1633 candidates of the 20 100 pairs
         let all = bodies.len() * (bodies.len() - 1) / 2;
-        assert!(found.len() < all / 10, "{} candidates of {all} pairs", found.len());
+        assert!(
+            found.len() < all / 10,
+            "{} candidates of {all} pairs",
+            found.len()
+        );
     }
 
     /// A world large enough for the parallel sort and chunked cells: the same pairs in the

@@ -165,7 +165,8 @@ impl Contacts {
         // in the order they were found, which decides which one hands over its anchors
         self.previous_by_pair.clear();
         self.previous_by_pair.extend(
-            (self.previous.iter().enumerate()).map(|(i, p)| (pair_key(p.body_a, p.body_b), i as u32)),
+            (self.previous.iter().enumerate())
+                .map(|(i, p)| (pair_key(p.body_a, p.body_b), i as u32)),
         );
         self.previous_by_pair.sort_unstable();
         self.points.clear();
@@ -295,12 +296,23 @@ impl Contacts {
                 0.0
             };
             let change = target - now;
-            let w =
-                a.positional_inverse_mass(ra, p.normal) + b.positional_inverse_mass(rb, p.normal);
+            // a sleeping body is immovable until its island wakes
+            let inverse_mass = |body: &Body, r| {
+                if body.asleep {
+                    0.0
+                } else {
+                    body.positional_inverse_mass(r, p.normal)
+                }
+            };
+            let w = inverse_mass(a, ra) + inverse_mass(b, rb);
             if change != 0.0 && w > 0.0 {
                 let impulse = (change / w) * p.normal;
-                a.apply_velocity_impulse(-impulse, ra);
-                b.apply_velocity_impulse(impulse, rb);
+                if !a.asleep {
+                    a.apply_velocity_impulse(-impulse, ra);
+                }
+                if !b.asleep {
+                    b.apply_velocity_impulse(impulse, rb);
+                }
             }
         }
     }
@@ -379,7 +391,9 @@ impl PairContext<'_> {
                 let by_pair = self.previous_by_pair;
                 let start = by_pair.partition_point(|&(k, _)| k < key);
                 let end = start + by_pair[start..].partition_point(|&(k, _)| k == key);
-                by_pair[start..end].iter().map(|&(_, i)| &self.previous[i as usize])
+                by_pair[start..end]
+                    .iter()
+                    .map(|&(_, i)| &self.previous[i as usize])
             };
             for f in &out.features {
                 let local_a = body_a.orientation.inverse() * (f.point_a - body_a.position);

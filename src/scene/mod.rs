@@ -40,6 +40,9 @@ pub struct SceneDef {
     /// How the rows of a colour are solved: scalar (the reference) or simd.
     #[serde(default)]
     pub solver: SolverKind,
+    /// Islands of still bodies fall asleep and leave the step (off: the paper's scenes).
+    #[serde(default)]
+    pub sleep: bool,
     #[serde(default = "default_frames")]
     pub frames: u32,
     /// Frames the main job (`rodlab`, `rodlab all`) runs instead of `frames`, for scenes too
@@ -799,6 +802,7 @@ impl Scene {
             contacts: d.contacts,
             contact_margin: d.contact_margin,
             contact_push_speed: crate::solver::DEFAULT_CONTACT_PUSH_SPEED,
+            sleep: d.sleep,
             linear_damping: d.damping[0],
             angular_damping: d.damping[1],
         }));

@@ -37,7 +37,10 @@
 //!    5. the contacts' velocity pass: each contact that pushed in this substep leaves with zero
 //!       relative normal velocity, or bounces (restitution);
 //! 4. the caller checks every body for NaN and for speeds above the explosion bounds, then
-//!    measures residuals on the final poses (paper Fig. 8), once per frame.
+//!    measures residuals on the final poses (paper Fig. 8), once per frame;
+//! 5. with sleeping on, the world's sleep pass ([`crate::sleep`]) wakes the islands something
+//!    awake reached and puts still ones to sleep. A sleeping body is immovable here: not
+//!    integrated, no rows with other immovable bodies, inverse mass zero in the hot array.
 //!
 //! Results do not depend on the thread count: colours are built in a fixed order and the rows
 //! of a colour write disjoint bodies. Once warmed up, the step does not allocate: every
@@ -108,6 +111,9 @@ pub struct Settings {
     pub contact_margin: f32,
     /// Deep overlap is pushed out no faster than this (m/s); infinity pushes it out at once.
     pub contact_push_speed: f32,
+    /// Islands of bodies that stay still fall asleep and leave the step ([`crate::sleep`]).
+    /// Off (the default) in the paper's scenes, whose residuals are measured every frame.
+    pub sleep: bool,
     /// Velocity damping rates (1/s): each substep `v /= 1 + h c`. Zero (the default) in the
     /// paper's scenes; a game scene may use a little to let piles come to rest.
     pub linear_damping: f32,
@@ -127,6 +133,7 @@ impl Default for Settings {
             contacts: false,
             contact_margin: 0.02,
             contact_push_speed: DEFAULT_CONTACT_PUSH_SPEED,
+            sleep: false,
             linear_damping: 0.0,
             angular_damping: 0.0,
         }
@@ -188,10 +195,15 @@ impl Solver {
     /// Step 2: rows per kind, coloured.
     fn prepare(&mut self, bodies: &[Body], constraints: &[Constraint], contacts: &mut Contacts) {
         self.movable.clear();
-        self.movable.extend(bodies.iter().map(Body::is_dynamic));
+        self.movable
+            .extend(bodies.iter().map(Body::is_awake_dynamic));
         self.joints.clear();
         self.rods.clear();
         for constraint in constraints {
+            let (a, b) = constraint.bodies();
+            if !(self.movable[a.index()] || self.movable[b.index()]) {
+                continue; // nothing to move (a sleeping island, or fixed bodies only)
+            }
             match constraint {
                 Constraint::BallSocket(joint) => self.joints.push(joint.prepare()),
                 Constraint::Rod(rod) => self.rods.push(rod.prepare()),
@@ -398,7 +410,7 @@ impl RowBodies for ContactPoint {
 
 /// Step 3.1: gravity, external force, the gyroscopic term and damping.
 fn integrate_velocity(body: &mut Body, settings: &Settings, h: f32) {
-    if !body.is_dynamic() {
+    if !body.is_awake_dynamic() {
         return;
     }
     body.linear_velocity += h * (settings.gravity + body.external_force * body.inverse_mass);
@@ -414,6 +426,17 @@ fn integrate_velocity(body: &mut Body, settings: &Settings, h: f32) {
 
 /// Step 3.2: the preview pose of a body as the hot solver body. Fixed bodies stay put.
 fn predict_pose(body: &Body, h: f32) -> SolverBody {
+    if body.asleep {
+        // immovable until its island wakes
+        return SolverBody {
+            orientation: body.orientation,
+            predicted: body.orientation,
+            position: body.position,
+            inverse_mass: 0.0,
+            rotation_correction: Vec3::ZERO,
+            inverse_inertia: Mat3::ZERO,
+        };
+    }
     let (position, orientation) = if body.kind == BodyKind::Fixed {
         (body.position, body.orientation)
     } else {
@@ -437,7 +460,7 @@ fn predict_pose(body: &Body, h: f32) -> SolverBody {
 
 /// Step 3.4: velocities from the corrected preview, then the pose is committed.
 fn commit_pose(body: &mut Body, hot: &SolverBody, h: f32) {
-    if body.kind == BodyKind::Fixed {
+    if body.kind == BodyKind::Fixed || body.asleep {
         return;
     }
     if body.is_dynamic() {
