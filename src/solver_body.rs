@@ -147,6 +147,46 @@ pub fn pair_mut<T>(items: &mut [T], a: usize, b: usize) -> (&mut T, &mut T) {
     }
 }
 
+/// A slice shared by the workers of one colour, whose rows write disjoint elements (the world's
+/// bodies in the contacts' velocity pass).
+pub struct SharedSlice<T> {
+    ptr: *mut T,
+    len: usize,
+}
+
+// (not derived: a derive would ask `T: Copy`)
+impl<T> Clone for SharedSlice<T> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+impl<T> Copy for SharedSlice<T> {}
+
+// SAFETY: access goes through `ptr`, whose callers guarantee that no element is written by one
+// thread while another reads or writes it (graph colouring).
+unsafe impl<T: Send> Send for SharedSlice<T> {}
+unsafe impl<T: Send> Sync for SharedSlice<T> {}
+
+impl<T> SharedSlice<T> {
+    pub fn new(items: &mut [T]) -> Self {
+        SharedSlice {
+            ptr: items.as_mut_ptr(),
+            len: items.len(),
+        }
+    }
+
+    /// Element `i`.
+    ///
+    /// # Safety
+    /// While the pointer is used, no other thread may write element `i`, and no other thread
+    /// may read it if it is written through the pointer.
+    #[inline(always)]
+    pub unsafe fn ptr(&self, i: usize) -> *mut T {
+        assert!(i < self.len);
+        self.ptr.add(i)
+    }
+}
+
 /// The solver bodies shared by the workers of one colour. Rows of a colour share no movable
 /// body, so each movable body is written by one row at a time; immovable bodies (zero inverse
 /// mass) are only read, and a row gets a private copy of them.

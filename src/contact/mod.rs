@@ -32,7 +32,7 @@ pub mod narrowphase;
 use crate::body::{Body, BodyId};
 use crate::constraint::Constraint;
 use crate::math::Vec3;
-use crate::solver_body::{pair_mut, SolverBody};
+use crate::solver_body::{pair_mut, SharedSlice, SolverBody};
 use broadphase::BroadPhase;
 use narrowphase::Feature;
 
@@ -283,36 +283,31 @@ impl Contacts {
     /// from positions, so a body pushed out of a penetration would leave with that speed and
     /// come back next step; in a pile those kicks settle into a flip every frame (limbs
     /// twitching at 0.1 m/s and 3 rad/s after 10 s, before this pass removed them).
-    pub fn velocity_pass(&self, bodies: &mut [Body], threshold: f32) {
-        for p in self.points.iter().filter(|p| p.normal_impulse > 0.0) {
-            let (a, b) = pair_mut(bodies, p.body_a.index(), p.body_b.index());
-            let (ra, rb) = (p.arm_a, p.arm_b);
-            let (pa, pb) = (a.position + ra, b.position + rb);
-            let now = relative_normal_velocity(a, b, pa, pb, p.normal);
-            let bounce = p.restitution > 0.0 && p.approach_speed < -threshold;
-            let target = if bounce {
-                -p.restitution * p.approach_speed
+    ///
+    /// `colours` are the points' colour ranges in order, each with whether its points share no
+    /// movable body: those run on several threads when large, with the same result as one
+    /// after another (a movable body is written by one point of a colour only).
+    pub fn velocity_pass(
+        &self,
+        bodies: &mut [Body],
+        threshold: f32,
+        colours: impl Iterator<Item = (std::ops::Range<usize>, bool)>,
+    ) {
+        let shared = SharedSlice::new(bodies);
+        // SAFETY: within an independent colour no two points share an awake dynamic body, the
+        // only bodies written; the others run on this thread one at a time.
+        let pass = |p: &ContactPoint| unsafe { velocity_pass_point(p, shared, threshold) };
+        let parallel = rayon::current_num_threads() > 1;
+        for (range, independent) in colours {
+            let points = &self.points[range];
+            if independent && parallel && points.len() >= PARALLEL_VELOCITY_POINTS {
+                use rayon::prelude::*;
+                let chunk = points.len().div_ceil(rayon::current_num_threads());
+                points
+                    .par_chunks(chunk)
+                    .for_each(|chunk| chunk.iter().for_each(pass));
             } else {
-                0.0
-            };
-            let change = target - now;
-            // a sleeping body is immovable until its island wakes
-            let inverse_mass = |body: &Body, r| {
-                if body.asleep {
-                    0.0
-                } else {
-                    body.positional_inverse_mass(r, p.normal)
-                }
-            };
-            let w = inverse_mass(a, ra) + inverse_mass(b, rb);
-            if change != 0.0 && w > 0.0 {
-                let impulse = (change / w) * p.normal;
-                if !a.asleep {
-                    a.apply_velocity_impulse(-impulse, ra);
-                }
-                if !b.asleep {
-                    b.apply_velocity_impulse(impulse, rb);
-                }
+                points.iter().for_each(pass);
             }
         }
     }
@@ -323,6 +318,48 @@ impl Contacts {
             .iter()
             .map(|p| -p.separation(&bodies[p.body_a.index()], &bodies[p.body_b.index()]))
             .fold(0.0, f32::max)
+    }
+}
+
+/// A colour with at least this many points runs its velocity pass on several threads.
+const PARALLEL_VELOCITY_POINTS: usize = 1024;
+
+/// [`Contacts::velocity_pass`] of one point that pushed: its relative normal velocity to the
+/// bounce, or to zero. A sleeping body counts as immovable; only awake dynamic bodies change.
+///
+/// # Safety
+/// No other thread may access the point's awake dynamic bodies meanwhile, nor write its others.
+unsafe fn velocity_pass_point(p: &ContactPoint, bodies: SharedSlice<Body>, threshold: f32) {
+    if p.normal_impulse <= 0.0 {
+        return;
+    }
+    let (pa, pb) = (bodies.ptr(p.body_a.index()), bodies.ptr(p.body_b.index()));
+    let (ra, rb) = (p.arm_a, p.arm_b);
+    let impulse = {
+        let (a, b) = (&*pa, &*pb);
+        let now = relative_normal_velocity(a, b, a.position + ra, b.position + rb, p.normal);
+        let bounce = p.restitution > 0.0 && p.approach_speed < -threshold;
+        let target = if bounce {
+            -p.restitution * p.approach_speed
+        } else {
+            0.0
+        };
+        let change = target - now;
+        let inverse_mass = |body: &Body, r| match body.asleep {
+            true => 0.0,
+            false => body.positional_inverse_mass(r, p.normal),
+        };
+        let w = inverse_mass(a, ra) + inverse_mass(b, rb);
+        if change == 0.0 || w <= 0.0 {
+            return;
+        }
+        (change / w) * p.normal
+    };
+    if (*pa).is_awake_dynamic() {
+        (*pa).apply_velocity_impulse(-impulse, ra);
+    }
+    if (*pb).is_awake_dynamic() {
+        (*pb).apply_velocity_impulse(impulse, rb);
     }
 }
 

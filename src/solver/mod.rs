@@ -316,7 +316,9 @@ impl Solver {
         // inelastic
         if settings.contacts {
             let threshold = 2.0 * settings.gravity.length() * settings.dt;
-            contacts.velocity_pass(bodies, threshold);
+            let colours = &self.contact_colours;
+            let ranges = colours.ranges().map(|(c, r)| (r, !colours.is_overflow(c)));
+            contacts.velocity_pass(bodies, threshold, ranges);
         }
     }
 
