@@ -119,5 +119,8 @@ fn the_first_second_is_bit_identical_on_one_and_two_threads() {
                 .collect::<Vec<u32>>()
         })
     };
-    assert!(final_state(1) == final_state(2), "the thread count changed the result");
+    assert!(
+        final_state(1) == final_state(2),
+        "the thread count changed the result"
+    );
 }
