@@ -122,6 +122,9 @@ pub struct OverrideArgs {
     /// Sleeping of still islands: true or false (default: the scene's `sleep`).
     #[arg(long)]
     pub sleep: Option<bool>,
+    /// Fastest push out of deep contact overlap (m/s; inf: at once).
+    #[arg(long, value_parser = positive_speed)]
+    pub contact_push_speed: Option<f32>,
     /// Worker threads of the solver; default rayon's (one per core).
     #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
     pub threads: Option<u64>,
@@ -171,6 +174,14 @@ fn positive_seconds(s: &str) -> Result<f32, String> {
     }
 }
 
+fn positive_speed(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if v > 0.0 => Ok(v),
+        Ok(v) => Err(format!("must be a positive speed in m/s (or inf), got {v}")),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
 impl From<&OverrideArgs> for Overrides {
     fn from(a: &OverrideArgs) -> Self {
         Overrides {
@@ -178,6 +189,7 @@ impl From<&OverrideArgs> for Overrides {
             substeps: a.substeps,
             solver: a.solver,
             sleep: a.sleep,
+            contact_push_speed: a.contact_push_speed,
             dt: a.dt,
             frames: a.frames,
             spine: a.spine,

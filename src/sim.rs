@@ -42,6 +42,7 @@ pub struct Overrides {
     pub substeps: Option<u32>,
     pub solver: Option<SolverKind>,
     pub sleep: Option<bool>,
+    pub contact_push_speed: Option<f32>,
     pub dt: Option<f32>,
     pub frames: Option<u32>,
     pub spine: Option<SpineKind>,
@@ -64,6 +65,9 @@ impl Overrides {
         }
         if let Some(v) = self.sleep {
             def.sleep = v;
+        }
+        if let Some(v) = self.contact_push_speed {
+            def.contact_push_speed = v;
         }
         if let Some(v) = self.dt {
             def.dt = v;

@@ -99,6 +99,43 @@ fn zero_substeps() {
 }
 
 #[test]
+fn non_positive_or_nan_push_speed() {
+    for bad in ["0.0", "-3.0", "nan"] {
+        let e = error_for(
+            "iterations = 10",
+            &format!("iterations = 10\ncontact_push_speed = {bad}"),
+        );
+        assert!(
+            e.starts_with("scenes/x.toml:4: contact_push_speed: must be a positive speed"),
+            "{e}"
+        );
+    }
+}
+
+#[test]
+fn sleep_and_push_speed_reach_the_settings() {
+    let default = Scene::parse("scenes/x.toml", GOOD)
+        .unwrap()
+        .build()
+        .unwrap()
+        .world;
+    assert!(!default.settings.sleep);
+    assert_eq!(default.settings.contact_push_speed, f32::INFINITY);
+    let text = GOOD.replacen(
+        "iterations = 10",
+        "iterations = 10\nsleep = true\ncontact_push_speed = 3.0",
+        1,
+    );
+    let world = Scene::parse("scenes/x.toml", &text)
+        .unwrap()
+        .build()
+        .unwrap()
+        .world;
+    assert!(world.settings.sleep);
+    assert_eq!(world.settings.contact_push_speed, 3.0);
+}
+
+#[test]
 fn unknown_solver_names_the_choices() {
     let e = error_for("iterations = 10", "iterations = 10\nsolver = \"gpu\"");
     assert!(e.starts_with("scenes/x.toml:4: solver: "), "{e}");

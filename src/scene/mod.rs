@@ -78,6 +78,10 @@ pub struct SceneDef {
     /// Contact points are made this far (m) before the surfaces touch.
     #[serde(default = "default_contact_margin")]
     pub contact_margin: f32,
+    /// Deep overlap is pushed out no faster than this (m/s, Box2D's `maxContactPushSpeed`);
+    /// `inf` (the default) pushes it out at once, the paper-era projection.
+    #[serde(default = "default_contact_push_speed")]
+    pub contact_push_speed: f32,
     /// Print a residual row every this many frames (0: only the summary).
     #[serde(default)]
     pub report_every: u32,
@@ -255,6 +259,9 @@ pub struct KinematicsDef {
 
 fn default_contact_margin() -> f32 {
     0.02
+}
+fn default_contact_push_speed() -> f32 {
+    crate::solver::DEFAULT_CONTACT_PUSH_SPEED
 }
 fn default_spine_length() -> f32 {
     0.385
@@ -660,6 +667,15 @@ impl Scene {
         if !(d.max_angular_speed > 0.0) {
             return Err((key("max_angular_speed"), "must be positive".into()));
         }
+        if !(d.contact_push_speed > 0.0) {
+            return Err((
+                key("contact_push_speed"),
+                format!(
+                    "must be a positive speed in m/s (or inf), got {}",
+                    d.contact_push_speed
+                ),
+            ));
+        }
         if let Some(k) = &d.kinematics {
             let field = |f: &str| vec![Seg::Key("kinematics".into()), Seg::Key(f.into())];
             if !(k.length > 0.0) {
@@ -801,7 +817,7 @@ impl Scene {
             max_angular_speed: d.max_angular_speed,
             contacts: d.contacts,
             contact_margin: d.contact_margin,
-            contact_push_speed: crate::solver::DEFAULT_CONTACT_PUSH_SPEED,
+            contact_push_speed: d.contact_push_speed,
             sleep: d.sleep,
             linear_damping: d.damping[0],
             angular_damping: d.damping[1],
