@@ -627,6 +627,7 @@ pub fn record_scene(scene: &Scene, rec: rerun::RecordingStream) -> anyhow::Resul
             max_penetration_cm: 0.0,
             step_seconds: 0.0,
             awake_bodies: Vec::new(),
+            profile: Default::default(),
         });
     }
     let mut lab = scene.build()?;
@@ -854,6 +855,7 @@ pub fn print_summary(name: &str, scene: &Scene, report: &RunReport) {
             report.max_penetration_cm
         );
         print_sleep(scene, report);
+        print_profile(report);
         return;
     }
     println!(
@@ -885,6 +887,7 @@ pub fn print_summary(name: &str, scene: &Scene, report: &RunReport) {
         );
     }
     print_sleep(scene, report);
+    print_profile(report);
     for (i, rod) in report.final_rods.iter().enumerate() {
         println!(
             "  rod {i}: final psi {:.3} rad, tau {:.3} rad, length violation {:.4} cm, curve violation {:.5} rad",
@@ -893,6 +896,18 @@ pub fn print_summary(name: &str, scene: &Scene, report: &RunReport) {
             100.0 * rod.length_error,
             rod.curve_error
         );
+    }
+}
+
+/// The step's phases, mean per frame (ms), the ones that took any time.
+fn print_profile(report: &RunReport) {
+    let frames = report.awake_bodies.len().max(1) as f64;
+    let phases: Vec<String> = (report.profile.phases().iter())
+        .filter(|(_, s)| *s > 0.0)
+        .map(|(name, s)| format!("{name} {:.3}", 1e3 * s / frames))
+        .collect();
+    if !phases.is_empty() {
+        println!("  step profile, ms per frame: {}", phases.join(", "));
     }
 }
 

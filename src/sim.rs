@@ -117,6 +117,8 @@ pub struct RunReport {
     pub step_seconds: f64,
     /// Per frame, the dynamic bodies awake after it (all of them unless sleeping is on).
     pub awake_bodies: Vec<u32>,
+    /// The steps' phases, summed over the run (see [`crate::solver::Profile`]).
+    pub profile: crate::solver::Profile,
 }
 
 impl RunReport {
@@ -148,6 +150,7 @@ pub fn run(lab: &mut Lab, frames: u32, observer: &mut dyn Observer) -> anyhow::R
     let mut max_penetration_cm = 0.0f32;
     let mut step_seconds = 0.0f64;
     let mut awake_bodies = Vec::with_capacity(frames as usize);
+    let mut profile = crate::solver::Profile::default();
     for _ in 0..frames {
         let started = std::time::Instant::now();
         let stepped = lab.step();
@@ -159,6 +162,7 @@ pub fn run(lab: &mut Lab, frames: u32, observer: &mut dyn Observer) -> anyhow::R
         metrics.measure(lab);
         total_dislocation_cm.push(metrics.totals().0);
         awake_bodies.push(lab.world.awake_bodies as u32);
+        profile.add(&lab.world.solver.profile);
         max_penetration_cm = max_penetration_cm.max(metrics.max_penetration_cm);
         for (report, residual) in ragdolls.iter_mut().zip(&metrics.ragdolls) {
             report.summary.add(*residual);
@@ -175,5 +179,6 @@ pub fn run(lab: &mut Lab, frames: u32, observer: &mut dyn Observer) -> anyhow::R
         max_penetration_cm,
         step_seconds,
         awake_bodies,
+        profile,
     })
 }

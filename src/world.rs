@@ -100,6 +100,7 @@ impl World {
         self.time += self.settings.dt as f64;
         self.check_health()?;
         // 5. sleeping: islands that stayed still leave the step, reached ones come back
+        let started = std::time::Instant::now();
         self.awake_bodies = if self.settings.sleep {
             let (dt, bodies) = (self.settings.dt, &mut self.bodies);
             self.islands
@@ -108,6 +109,7 @@ impl World {
             self.islands.wake_all(&mut self.bodies);
             self.bodies.iter().filter(|b| b.is_dynamic()).count()
         };
+        self.solver.profile.sleep = started.elapsed().as_secs_f64();
         Ok(())
     }
 

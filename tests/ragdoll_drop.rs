@@ -102,3 +102,27 @@ fn thirty_ragdolls_land_and_settle_and_the_rod_spine_leaves_less_residual() {
         means[0] / 3.0
     );
 }
+
+/// The step profile accounts for the step: every phase the drop runs takes time, and the
+/// phases add up to the stepping time `sim::run` measures around `World::step` (all of it but
+/// the health check and the timers themselves).
+#[test]
+fn the_step_profile_accounts_for_the_step() {
+    let mut lab = Scene::load(SCENE).unwrap().build().unwrap();
+    let report = sim::run(&mut lab, 20, &mut sim::NoObserver).unwrap();
+    let p = report.profile;
+    for (name, seconds) in p.phases() {
+        let runs = name != "rods" && name != "sleep"; // chain3 spines: no rods; sleep is off
+        assert!(!runs || seconds > 0.0, "{name}: {seconds} s");
+    }
+    let (total, stepping) = (p.total(), report.step_seconds);
+    println!("profile {total:.6} s of {stepping:.6} s stepping");
+    assert!(
+        total <= stepping,
+        "phases {total} s exceed the step's {stepping} s"
+    );
+    assert!(
+        total > 0.9 * stepping,
+        "phases {total} s of the step's {stepping} s"
+    );
+}

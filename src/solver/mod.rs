@@ -47,6 +47,7 @@
 //! vector here is reused from frame to frame.
 
 pub mod graph;
+pub mod profile;
 /// The hot body and the SIMD lanes live below the constraint kinds, which use them; re-exported
 /// here, where they belong to the reader.
 pub use crate::{lanes, solver_body as body};
@@ -57,7 +58,10 @@ use crate::contact::{ContactPoint, Contacts};
 use crate::math::{quat_from_rotation_vector, rotation_vector, skew, Mat3, Vec3};
 use body::{SharedBodies, SolverBody};
 use graph::{Colouring, Colours, Order};
+use profile::lap;
+pub use profile::Profile;
 use rayon::prelude::*;
+use std::time::Instant;
 
 /// A colour with at least this many rows is split across threads (when there are several);
 /// below it the hand-off costs more than it saves.
@@ -166,6 +170,8 @@ pub struct Solver {
     joint_scratch: Vec<JointRow>,
     rod_scratch: Vec<RodRow>,
     contact_scratch: Vec<ContactPoint>,
+    /// Wall time of the last step's phases.
+    pub profile: Profile,
 }
 
 impl Solver {
@@ -180,12 +186,16 @@ impl Solver {
         let dt = settings.dt;
         let substeps = settings.substeps.max(1);
         let h = dt / substeps as f32;
+        self.profile = Profile::default();
+        let mut clock = Instant::now();
         // 1. contacts at the current poses, once per frame
         if settings.contacts {
             contacts.detect(bodies, constraints, dt, settings.contact_margin);
         }
+        self.profile.detect = lap(&mut clock);
         // 2. prepare: rows per kind, coloured
         self.prepare(bodies, constraints, contacts);
+        self.profile.prepare = lap(&mut clock);
         // 3. substeps
         for _ in 0..substeps {
             self.substep(settings, h, bodies, contacts);
@@ -245,6 +255,7 @@ impl Solver {
         contacts: &mut Contacts,
     ) {
         let parallel = rayon::current_num_threads() > 1;
+        let mut clock = Instant::now();
         // 3.1-3.2 velocities, then the preview poses into the hot array
         self.bodies.resize(bodies.len(), SolverBody::default());
         let predict = |(body, hot): (&mut Body, &mut SolverBody)| {
@@ -270,6 +281,7 @@ impl Solver {
                 .for_each(|r| r.begin_substep(bodies_now));
         }
         contacts.begin_substep(bodies, h, settings.contact_push_speed);
+        self.profile.integrate += lap(&mut clock);
         // 3.3 fixed iterations, kind by kind, colour by colour
         let shared = SharedBodies::new(&mut self.bodies);
         let kind = settings.solver;
@@ -283,6 +295,7 @@ impl Solver {
                 |row, a, b| row.solve(a, b),
                 crate::constraint::rod_lanes::solve_batch,
             );
+            self.profile.rods += lap(&mut clock);
             solve_colours(
                 &mut self.joints,
                 &self.joint_colours,
@@ -292,6 +305,7 @@ impl Solver {
                 |row, a, b| row.solve(a, b),
                 crate::constraint::ball_socket_lanes::solve_batch,
             );
+            self.profile.joints += lap(&mut clock);
             solve_colours(
                 &mut contacts.points,
                 &self.contact_colours,
@@ -301,6 +315,7 @@ impl Solver {
                 |p, a, b| p.solve(a, b),
                 crate::contact::lanes::solve_batch,
             );
+            self.profile.contacts += lap(&mut clock);
         }
         // 3.4 velocities from the corrected previews; commit the poses
         let commit = |(body, hot): (&mut Body, &SolverBody)| commit_pose(body, hot, h);
@@ -312,6 +327,7 @@ impl Solver {
         } else {
             bodies.iter_mut().zip(&self.bodies).for_each(commit);
         }
+        self.profile.commit += lap(&mut clock);
         // 3.5 the contacts' velocity pass; bounces slower than two frames of free fall stay
         // inelastic
         if settings.contacts {
@@ -320,6 +336,7 @@ impl Solver {
             let ranges = colours.ranges().map(|(c, r)| (r, !colours.is_overflow(c)));
             contacts.velocity_pass(bodies, threshold, ranges);
         }
+        self.profile.velocity_pass += lap(&mut clock);
     }
 
     /// Colours per kind at the last step: (joints, rods, contacts), for benchmarks and reports.
