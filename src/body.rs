@@ -152,6 +152,14 @@ impl Body {
         self.kind == BodyKind::Dynamic && !self.asleep
     }
 
+    /// Moves this step: an awake dynamic body, or a kinematic body with a velocity. What the
+    /// broad phase pairs, and what wakes a sleeping island it reaches.
+    pub fn moves_this_step(&self) -> bool {
+        self.is_awake_dynamic()
+            || (self.kind == BodyKind::Kinematic
+                && (self.linear_velocity != Vec3::ZERO || self.angular_velocity != Vec3::ZERO))
+    }
+
     pub fn inverse_mass(&self) -> f32 {
         self.inverse_mass
     }

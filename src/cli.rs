@@ -901,7 +901,7 @@ pub fn print_summary(name: &str, scene: &Scene, report: &RunReport) {
 
 /// The step's phases, mean per frame (ms), the ones that took any time.
 fn print_profile(report: &RunReport) {
-    let frames = report.awake_bodies.len().max(1) as f64;
+    let frames = report.total_dislocation_cm.len().max(1) as f64; // frames stepped
     let phases: Vec<String> = (report.profile.phases().iter())
         .filter(|(_, s)| *s > 0.0)
         .map(|(name, s)| format!("{name} {:.3}", 1e3 * s / frames))

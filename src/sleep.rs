@@ -20,7 +20,7 @@
 //! awake dynamic body or a moving kinematic body is in it. What remains per sleeping body is its
 //! broad-phase entry and these per-frame checks.
 
-use crate::body::{Body, BodyKind};
+use crate::body::Body;
 use crate::constraint::Constraint;
 use crate::contact::Contacts;
 use crate::math::Vec3;
@@ -119,15 +119,10 @@ impl Islands {
     fn wake_reached(&mut self, bodies: &mut [Body], pairs: impl Iterator<Item = (u32, u32)>) {
         self.wake.clear();
         self.wake.resize(bodies.len(), false);
-        let active = |b: &Body| {
-            b.is_awake_dynamic()
-                || (b.kind == BodyKind::Kinematic
-                    && (b.linear_velocity != Vec3::ZERO || b.angular_velocity != Vec3::ZERO))
-        };
         for (a, b) in pairs {
             let (a, b) = (&bodies[a as usize], &bodies[b as usize]);
             for (sleeper, other) in [(a, b), (b, a)] {
-                if sleeper.asleep && active(other) {
+                if sleeper.asleep && other.moves_this_step() {
                     self.wake[sleeper.sleep_island as usize] = true;
                 }
             }

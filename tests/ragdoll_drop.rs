@@ -59,9 +59,12 @@ fn thirty_ragdolls_land_and_settle_and_the_rod_spine_leaves_less_residual() {
         let fastest_point = point_speeds.iter().copied().fold(0.0, f32::max);
         let resting =
             point_speeds.iter().filter(|&&v| v < 0.2).count() as f32 / point_speeds.len() as f32;
+        let mut sorted = point_speeds.clone();
+        sorted.sort_by(f32::total_cmp);
         println!(
             "{spine}: fastest centre {fastest_centre:.3} m/s, fastest point {fastest_point:.3} \
-             m/s, {:.1}% of bodies with every point under 0.2 m/s",
+             m/s, median point {:.3} m/s, {:.1}% of bodies with every point under 0.2 m/s",
+            sorted[sorted.len() / 2],
             100.0 * resting
         );
         // Nearly at rest: a few limbs caught between stair boxes and other ragdolls still

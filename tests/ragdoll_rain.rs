@@ -49,6 +49,11 @@ fn rain(spine: SpineKind, frames: u32) -> (Lab, f32, f32) {
         report.max_penetration_cm,
         report.steps_per_second()
     );
+    let per_frame = |seconds: f64| 1e3 * seconds / frames as f64;
+    let phases: Vec<String> = (report.profile.phases().iter())
+        .map(|(name, s)| format!("{name} {:.2}", per_frame(*s)))
+        .collect();
+    println!("{spine}: ms per frame: {}", phases.join(", "));
     (lab, lowest, mean / 1000.0)
 }
 

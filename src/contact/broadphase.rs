@@ -29,7 +29,7 @@ use crate::shape::Shape;
 #[derive(Clone, Copy, Debug, Default)]
 struct Proxy {
     body: u32,
-    /// Moves this step: an awake dynamic body or a kinematic body with a velocity.
+    /// [`Body::moves_this_step`].
     active: bool,
     /// A dynamic body, awake or asleep: something a contact can move or wake.
     dynamic: bool,
@@ -126,9 +126,7 @@ impl BroadPhase {
             proxy.min = (body.position - half).to_array();
             proxy.max = (body.position + half).to_array();
             proxy.dynamic = body.kind == BodyKind::Dynamic;
-            proxy.active = body.is_awake_dynamic()
-                || (body.kind == BodyKind::Kinematic
-                    && (body.linear_velocity != Vec3::ZERO || body.angular_velocity != Vec3::ZERO));
+            proxy.active = body.moves_this_step();
             if body.kind != BodyKind::Fixed {
                 extent_sum += half.max_element();
                 movable += 1;
@@ -288,6 +286,14 @@ mod tests {
     use super::*;
     use crate::math::{Quat, Vec3};
 
+    /// A reproducible uniform sequence in [0, 1) (a linear congruential generator).
+    fn uniform(mut seed: u32) -> impl FnMut() -> f32 {
+        move || {
+            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (seed >> 8) as f32 / (1 << 24) as f32
+        }
+    }
+
     fn ball(x: f32, y: f32, z: f32, radius: f32, kind: BodyKind) -> Body {
         Body::new("b", kind, Shape::Sphere { radius }, 1.0)
             .with_pose(Vec3::new(x, y, z), Quat::IDENTITY)
@@ -299,11 +305,7 @@ mod tests {
     #[test]
     fn grid_finds_exactly_the_overlapping_pairs() {
         let mut bodies = Vec::new();
-        let mut seed = 12345u32;
-        let mut random = || {
-            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-            (seed >> 8) as f32 / (1 << 24) as f32
-        };
+        let mut random = uniform(12345);
         for i in 0..300 {
             let kind = if i % 7 == 0 {
                 BodyKind::Fixed
@@ -358,11 +360,7 @@ mod tests {
     /// over a tilted half-space, at rest and moving.
     #[test]
     fn no_pair_with_a_contact_is_culled() {
-        let mut seed = 4242u32;
-        let mut random = || {
-            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-            (seed >> 8) as f32 / (1 << 24) as f32
-        };
+        let mut random = uniform(4242);
         let plane = Body::new("plane", BodyKind::Fixed, Shape::HalfSpace, 0.0)
             .with_pose(Vec3::new(0.0, 0.3, 0.0), Quat::from_rotation_z(0.2));
         let mut bodies = vec![plane];
@@ -420,11 +418,7 @@ mod tests {
     /// same order on one thread and on two.
     #[test]
     fn chunked_cells_give_the_same_pairs_on_any_thread_count() {
-        let mut seed = 777u32;
-        let mut random = || {
-            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-            (seed >> 8) as f32 / (1 << 24) as f32
-        };
+        let mut random = uniform(777);
         let bodies: Vec<Body> = (0..12000)
             .map(|_| {
                 let (x, y, z) = (40.0 * random(), 2.0 * random(), 40.0 * random());
