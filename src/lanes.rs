@@ -14,20 +14,20 @@ use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Sub};
 /// Groups of four floats of `W` records turned into four lanes, and back: the transpose that
 /// gathers bodies into lanes (one SSE shuffle network for W = 4).
 pub trait Transpose4: Sized {
-    /// `out[j]` lane i = `rows[i][j]`, for `rows.len() == W`.
-    fn transpose4(rows: &[[f32; 4]; 8]) -> [Self; 4];
+    /// `out[j]` lane i = `rows[i][j]`, for the first `W` rows.
+    fn transpose4(rows: [&[f32; 4]; 8]) -> [Self; 4];
     /// `rows[i][j]` = lane i of `cols[j]`.
     fn untranspose4(cols: [Self; 4]) -> [[f32; 4]; 8];
 }
 
 impl Transpose4 for wide::f32x4 {
     #[inline(always)]
-    fn transpose4(rows: &[[f32; 4]; 8]) -> [Self; 4] {
+    fn transpose4(rows: [&[f32; 4]; 8]) -> [Self; 4] {
         wide::f32x4::transpose([
-            wide::f32x4::new(rows[0]),
-            wide::f32x4::new(rows[1]),
-            wide::f32x4::new(rows[2]),
-            wide::f32x4::new(rows[3]),
+            wide::f32x4::new(*rows[0]),
+            wide::f32x4::new(*rows[1]),
+            wide::f32x4::new(*rows[2]),
+            wide::f32x4::new(*rows[3]),
         ])
     }
     #[inline(always)]
@@ -43,8 +43,14 @@ impl Transpose4 for wide::f32x4 {
 
 impl Transpose4 for wide::f32x8 {
     #[inline(always)]
-    fn transpose4(rows: &[[f32; 4]; 8]) -> [Self; 4] {
-        std::array::from_fn(|j| wide::f32x8::new(std::array::from_fn(|i| rows[i][j])))
+    fn transpose4(rows: [&[f32; 4]; 8]) -> [Self; 4] {
+        let low: [wide::f32x4; 4] = Transpose4::transpose4(rows);
+        let high: [wide::f32x4; 4] =
+            Transpose4::transpose4(std::array::from_fn(|i| rows[(i + 4) % 8]));
+        std::array::from_fn(|j| {
+            let (l, h) = (low[j].to_array(), high[j].to_array());
+            wide::f32x8::new([l[0], l[1], l[2], l[3], h[0], h[1], h[2], h[3]])
+        })
     }
     #[inline(always)]
     fn untranspose4(cols: [Self; 4]) -> [[f32; 4]; 8] {
@@ -476,15 +482,10 @@ impl<L: Lane> BodyLanes<L> {
     /// No other thread may be writing those bodies (see [`SharedBodies`]).
     #[inline(always)]
     pub unsafe fn gather(bodies: SharedBodies, index: &[u32]) -> Self {
-        let mut copies = [crate::solver_body::SolverBody::default(); 8];
-        for (i, copy) in copies.iter_mut().enumerate().take(L::W) {
-            *copy = bodies.read(index[i]);
-        }
+        // straight from the bodies' memory: no copies, one load per group of four floats
+        let quads: [&[[f32; 4]; 6]; 8] = std::array::from_fn(|i| bodies.quads(index[i % L::W]));
         // group k of every body, transposed: four fields in lanes
-        let group = |k: usize| {
-            let rows: [[f32; 4]; 8] = std::array::from_fn(|i| copies[i].as_quads()[k]);
-            L::transpose4(&rows)
-        };
+        let group = |k: usize| L::transpose4(std::array::from_fn(|i| &quads[i][k]));
         let [qx, qy, qz, qw] = group(0);
         let [px, py, pz, pw] = group(1);
         let [x, y, z, inverse_mass] = group(2);
@@ -538,7 +539,8 @@ impl<L: Lane> BodyLanes<L> {
         let c = self.rotation_correction;
         let correction = L::untranspose4([c.x, c.y, c.z, self.inverse_inertia.xx]);
         for (i, &k) in index.iter().enumerate().take(L::W) {
-            if bodies.read(k).inverse_mass == 0.0 {
+            // the gathered inverse mass, not a reload: immovable lanes are skipped
+            if self.inverse_mass.lane(i) == 0.0 {
                 continue;
             }
             let quads = bodies.get_mut(k).as_quads_mut();

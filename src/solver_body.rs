@@ -249,6 +249,16 @@ impl SharedBodies {
         *self.ptr.add(i as usize)
     }
 
+    /// Body `i` as [`SolverBody::as_quads`], to read in place.
+    ///
+    /// # Safety
+    /// No other thread may be writing body `i` while the reference lives.
+    #[inline(always)]
+    pub unsafe fn quads<'a>(&self, i: u32) -> &'a [[f32; 4]; 6] {
+        assert!((i as usize) < self.len);
+        (*self.ptr.add(i as usize)).as_quads()
+    }
+
     /// Body `i`, to write.
     ///
     /// # Safety
