@@ -92,6 +92,9 @@ pub struct SweepArgs {
     #[arg(long, value_delimiter = ',', default_value = "scalar",
           value_parser = parse_choice::<SolverKind>)]
     pub solver: Vec<SolverKind>,
+    /// Contact warm-start fractions (0 to 1), comma separated; default the scene's.
+    #[arg(long, value_delimiter = ',', value_parser = unit_interval)]
+    pub contact_warm_start: Vec<f32>,
     /// Worker threads of the solver; default rayon's (one per core).
     #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
     pub threads: Option<u64>,
@@ -125,6 +128,10 @@ pub struct OverrideArgs {
     /// Fastest push out of deep contact overlap (m/s; inf: at once).
     #[arg(long, value_parser = positive_speed)]
     pub contact_push_speed: Option<f32>,
+    /// Fraction of their last impulses contacts start each substep with (0 to 1; default: the
+    /// scene's `contact_warm_start`).
+    #[arg(long, value_parser = unit_interval)]
+    pub contact_warm_start: Option<f32>,
     /// Worker threads of the solver; default rayon's (one per core).
     #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
     pub threads: Option<u64>,
@@ -190,6 +197,7 @@ impl From<&OverrideArgs> for Overrides {
             solver: a.solver,
             sleep: a.sleep,
             contact_push_speed: a.contact_push_speed,
+            contact_warm_start: a.contact_warm_start,
             dt: a.dt,
             frames: a.frames,
             spine: a.spine,
@@ -231,6 +239,7 @@ fn dispatch(cli: Cli, matches: &ArgMatches) -> anyhow::Result<()> {
                 dts: args.dt,
                 substeps: args.substeps,
                 solvers: args.solver,
+                warm_starts: args.contact_warm_start,
                 frames: args.frames,
                 repeats: args.repeats,
             };
@@ -397,12 +406,13 @@ fn sweep(
     let mut rows = Vec::with_capacity(combinations.len());
     for overrides in &combinations {
         progress.show(&format!(
-            "{}/{} {} dt={:.4} substeps={} iterations={}",
+            "{}/{} {} dt={:.4} substeps={} warm={} iterations={}",
             overrides.spine.unwrap_or_default(),
             overrides.joint_flavour.unwrap_or_default(),
             overrides.solver.unwrap_or(scene.def.solver),
             overrides.dt.unwrap_or(scene.def.dt),
             overrides.substeps.unwrap_or(scene.def.substeps),
+            (overrides.contact_warm_start).unwrap_or(scene.def.contact_warm_start),
             overrides.iterations.unwrap_or(scene.def.iterations)
         ));
         rows.push(sweep::run_one(&scene, overrides, config.repeats)?);

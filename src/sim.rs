@@ -43,6 +43,7 @@ pub struct Overrides {
     pub solver: Option<SolverKind>,
     pub sleep: Option<bool>,
     pub contact_push_speed: Option<f32>,
+    pub contact_warm_start: Option<f32>,
     pub dt: Option<f32>,
     pub frames: Option<u32>,
     pub spine: Option<SpineKind>,
@@ -68,6 +69,9 @@ impl Overrides {
         }
         if let Some(v) = self.contact_push_speed {
             def.contact_push_speed = v;
+        }
+        if let Some(v) = self.contact_warm_start {
+            def.contact_warm_start = v;
         }
         if let Some(v) = self.dt {
             def.dt = v;

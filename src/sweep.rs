@@ -1,14 +1,15 @@
 //! `rodlab sweep SCENE`: speed against accuracy.
 //!
 //! The scene is run headless once per combination of spine, joint flavour, row solver,
-//! substeps per frame, time step and iteration count. Each run measures
+//! substeps per frame, contact warm start, time step and iteration count. Each run measures
 //! - the cost: the median wall time of `World::step` over the frames after a warm-up, pooled
 //!   over `repeats` runs (the residuals are deterministic, only the time varies);
 //! - the accuracy: the residual after each frame (paper Fig. 8) per ragdoll, as the mean and the
 //!   maximum over frames and ragdolls of the dislocation (cm) and the angular violation (rad).
 //!
-//! A method is a spine and a joint flavour (`rod/exact`), with the row solver when not scalar
-//! and the substeps when more than one (`rod/exact simd x4`); its line on the chart runs through
+//! A method is a spine and a joint flavour (`rod/exact`), with the row solver when not scalar,
+//! the substeps when more than one and the contacts' warm start when on
+//! (`rod/exact simd x4 warm0.25`); its line on the chart runs through
 //! its iteration counts, so the speed/accuracy frontier is the lower-left envelope of the lines,
 //! and lines of one method at several substeps show whether iterations or substeps buy more
 //! accuracy per microsecond.
@@ -18,11 +19,12 @@
 //!
 //! | column | meaning |
 //! |---|---|
-//! | `method` | `<spine>/<joint>[ simd][ x<substeps>]`, e.g. `rod/exact`, `rod/exact x4` |
+//! | `method` | `<spine>/<joint>[ simd][ x<substeps>][ warm<w>]`, e.g. `rod/exact x4` |
 //! | `spine` | chain3, rod or single |
 //! | `joint` | cheap or exact |
 //! | `solver` | scalar or simd (empty for a peer engine) |
 //! | `substeps` | substeps per frame, each of `dt / substeps` (1: the paper's method) |
+//! | `warm_start` | contacts' warm-start fraction (0: the paper's method) |
 //! | `dt` | time step (s) of a frame |
 //! | `iterations` | solver iterations per substep |
 //! | `step_us` | median time per step (microseconds) |
@@ -53,6 +55,8 @@ pub struct SweepConfig {
     pub substeps: Vec<u32>,
     /// Row solvers.
     pub solvers: Vec<SolverKind>,
+    /// Contact warm-start fractions; empty keeps the scene's.
+    pub warm_starts: Vec<f32>,
     /// Frames per run; `None` keeps the scene's.
     pub frames: Option<u32>,
     /// Runs per combination, pooled for the median step time.
@@ -68,6 +72,7 @@ impl Default for SweepConfig {
             dts: Vec::new(),
             substeps: vec![1],
             solvers: vec![SolverKind::Scalar],
+            warm_starts: Vec::new(),
             frames: None,
             repeats: 3,
         }
@@ -86,6 +91,8 @@ pub struct SweepRow {
     pub solver: String,
     /// Substeps per frame (1 for a peer).
     pub substeps: u32,
+    /// Contacts' warm-start fraction (0 for a peer).
+    pub warm_start: f32,
     pub dt: f32,
     /// Iterations per substep.
     pub iterations: u32,
@@ -106,6 +113,7 @@ impl SweepRow {
             joint,
             solver: String::new(),
             substeps: 1,
+            warm_start: 0.0,
             dt,
             iterations,
             step_us: 0.0,
@@ -118,8 +126,9 @@ impl SweepRow {
     }
 }
 
-/// The combinations in run order: spine, joint, solver, substeps (these four make the method),
-/// then time step, then iterations. An empty `substeps` or `solvers` list keeps the scene's.
+/// The combinations in run order: spine, joint, solver, substeps, warm start (these make the
+/// method), then time step, then iterations. An empty `substeps`, `solvers` or `warm_starts`
+/// list keeps the scene's.
 pub fn combinations(def: &SceneDef, config: &SweepConfig) -> Vec<Overrides> {
     let or_scene = |list: &[f32], scene: f32| match list.is_empty() {
         true => vec![scene],
@@ -134,23 +143,27 @@ pub fn combinations(def: &SceneDef, config: &SweepConfig) -> Vec<Overrides> {
         true => vec![def.solver],
         false => config.solvers.clone(),
     };
+    let warm_starts = or_scene(&config.warm_starts, def.contact_warm_start);
     let mut all = Vec::new();
     for &spine in &config.spines {
         for &joint in &config.joints {
             for &solver in &solvers {
                 for &substeps in &substeps {
-                    for &dt in &dts {
-                        for &iterations in &config.iterations {
-                            all.push(Overrides {
-                                spine: Some(spine),
-                                joint_flavour: Some(joint),
-                                solver: Some(solver),
-                                substeps: Some(substeps),
-                                dt: Some(dt),
-                                iterations: Some(iterations),
-                                frames: config.frames,
-                                ..Default::default()
-                            });
+                    for &warm in &warm_starts {
+                        for &dt in &dts {
+                            for &iterations in &config.iterations {
+                                all.push(Overrides {
+                                    spine: Some(spine),
+                                    joint_flavour: Some(joint),
+                                    solver: Some(solver),
+                                    substeps: Some(substeps),
+                                    contact_warm_start: Some(warm),
+                                    dt: Some(dt),
+                                    iterations: Some(iterations),
+                                    frames: config.frames,
+                                    ..Default::default()
+                                });
+                            }
                         }
                     }
                 }
@@ -160,13 +173,14 @@ pub fn combinations(def: &SceneDef, config: &SweepConfig) -> Vec<Overrides> {
     all
 }
 
-/// The method's label: `<spine>/<joint>`, then ` simd` unless scalar, then ` x<substeps>`
-/// unless 1 (so the paper's method keeps its plain name).
+/// The method's label: `<spine>/<joint>`, then ` simd` unless scalar, ` x<substeps>` unless
+/// 1 and ` warm<w>` unless 0 (so the paper's method keeps its plain name).
 pub fn method_label(
     spine: SpineKind,
     joint: JointFlavour,
     solver: SolverKind,
     substeps: u32,
+    warm_start: f32,
 ) -> String {
     let mut label = format!("{spine}/{joint}");
     if solver != SolverKind::Scalar {
@@ -174,6 +188,9 @@ pub fn method_label(
     }
     if substeps != 1 {
         label += &format!(" x{substeps}");
+    }
+    if warm_start != 0.0 {
+        label += &format!(" warm{warm_start}");
     }
     label
 }
@@ -185,7 +202,13 @@ pub fn run_one(scene: &Scene, overrides: &Overrides, repeats: u32) -> anyhow::Re
     let def = &scene.def;
     let spine = overrides.spine.unwrap_or_default();
     let mut row = SweepRow::new(
-        method_label(spine, def.joint_flavour, def.solver, def.substeps),
+        method_label(
+            spine,
+            def.joint_flavour,
+            def.solver,
+            def.substeps,
+            def.contact_warm_start,
+        ),
         spine.to_string(),
         def.joint_flavour.to_string(),
         def.dt,
@@ -193,6 +216,7 @@ pub fn run_one(scene: &Scene, overrides: &Overrides, repeats: u32) -> anyhow::Re
     );
     row.solver = def.solver.to_string();
     row.substeps = def.substeps;
+    row.warm_start = def.contact_warm_start;
     let frames = def.frames;
     time_and_measure(row, frames, repeats, || Ok(scene.build()?))
 }
@@ -282,7 +306,7 @@ pub fn median(values: &mut [f64]) -> f64 {
 }
 
 const HEADER: &str =
-    "method,spine,joint,solver,substeps,dt,iterations,step_us,mean_dislocation_cm,\
+    "method,spine,joint,solver,substeps,warm_start,dt,iterations,step_us,mean_dislocation_cm,\
 max_dislocation_cm,mean_angular_rad,max_angular_rad,failed";
 
 pub fn to_csv(rows: &[SweepRow]) -> String {
@@ -291,12 +315,13 @@ pub fn to_csv(rows: &[SweepRow]) -> String {
     for r in rows {
         let failed = r.failed.as_deref().unwrap_or("").replace([',', '\n'], ";");
         out += &format!(
-            "{},{},{},{},{},{},{},{:.3},{:.6},{:.6},{:.6},{:.6},{}\n",
+            "{},{},{},{},{},{},{},{},{:.3},{:.6},{:.6},{:.6},{:.6},{}\n",
             r.method,
             r.spine,
             r.joint,
             r.solver,
             r.substeps,
+            r.warm_start,
             r.dt,
             r.iterations,
             r.step_us,
@@ -311,7 +336,8 @@ pub fn to_csv(rows: &[SweepRow]) -> String {
 }
 
 /// Reads back what [`to_csv`] wrote (columns as in the module's table: method, spine, joint,
-/// solver, substeps, dt, iterations, step_us, the four residuals, failed); errors name the line
+/// solver, substeps, warm_start, dt, iterations, step_us, the four residuals, failed); errors
+/// name the line
 /// and the column.
 pub fn parse_csv(text: &str) -> anyhow::Result<Vec<SweepRow>> {
     use anyhow::{bail, Context as _};
@@ -343,14 +369,15 @@ pub fn parse_csv(text: &str) -> anyhow::Result<Vec<SweepRow>> {
             joint: fields[2].to_string(),
             solver: fields[3].to_string(),
             substeps: number(4)? as u32,
-            dt: number(5)? as f32,
-            iterations: number(6)? as u32,
-            step_us: number(7)?,
-            mean_dislocation_cm: number(8)?,
-            max_dislocation_cm: number(9)?,
-            mean_angular_rad: number(10)?,
-            max_angular_rad: number(11)?,
-            failed: Some(fields[12].to_string()).filter(|s| !s.is_empty()),
+            warm_start: number(5)? as f32,
+            dt: number(6)? as f32,
+            iterations: number(7)? as u32,
+            step_us: number(8)?,
+            mean_dislocation_cm: number(9)?,
+            max_dislocation_cm: number(10)?,
+            mean_angular_rad: number(11)?,
+            max_angular_rad: number(12)?,
+            failed: Some(fields[13].to_string()).filter(|s| !s.is_empty()),
         });
     }
     Ok(rows)

@@ -113,6 +113,20 @@ fn non_positive_or_nan_push_speed() {
 }
 
 #[test]
+fn warm_start_outside_zero_to_one() {
+    for bad in ["-0.1", "1.5", "nan"] {
+        let e = error_for(
+            "iterations = 10",
+            &format!("iterations = 10\ncontact_warm_start = {bad}"),
+        );
+        assert!(
+            e.starts_with("scenes/x.toml:4: contact_warm_start: must be a fraction from 0 to 1"),
+            "{e}"
+        );
+    }
+}
+
+#[test]
 fn sleep_and_push_speed_reach_the_settings() {
     let default = Scene::parse("scenes/x.toml", GOOD)
         .unwrap()
@@ -121,9 +135,10 @@ fn sleep_and_push_speed_reach_the_settings() {
         .world;
     assert!(!default.settings.sleep);
     assert_eq!(default.settings.contact_push_speed, f32::INFINITY);
+    assert_eq!(default.settings.contact_warm_start, 0.0);
     let text = GOOD.replacen(
         "iterations = 10",
-        "iterations = 10\nsleep = true\ncontact_push_speed = 3.0",
+        "iterations = 10\nsleep = true\ncontact_push_speed = 3.0\ncontact_warm_start = 0.25",
         1,
     );
     let world = Scene::parse("scenes/x.toml", &text)
@@ -133,6 +148,7 @@ fn sleep_and_push_speed_reach_the_settings() {
         .world;
     assert!(world.settings.sleep);
     assert_eq!(world.settings.contact_push_speed, 3.0);
+    assert_eq!(world.settings.contact_warm_start, 0.25);
 }
 
 #[test]

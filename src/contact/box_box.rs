@@ -11,8 +11,14 @@
 //!
 //! Face axes are preferred within a small tolerance, and a's faces over b's, so the choice does
 //! not flicker between nearly equal axes from one frame to the next.
+//!
+//! Feature ids ([`FeatureId`]): a face point names the reference face, the incident face and the
+//! two features whose meeting made the clipped vertex (an incident corner is where two incident
+//! edges meet; a crossing is an incident edge cut by a side plane of the reference face; a
+//! reference corner is where two side planes meet), as Box2D v3's clip ids do. An edge point
+//! names the two edge directions and which of the four parallel edges of each box supports it.
 
-use super::narrowphase::{closest_points_on_segments, Feature};
+use super::narrowphase::{closest_points_on_segments, Feature, FeatureId};
 use crate::body::Body;
 use crate::math::Vec3;
 
@@ -20,6 +26,10 @@ use crate::math::Vec3;
 const EDGE_TOLERANCE: f32 = 0.005;
 /// b's face must separate by this much more (m) than a's to be the reference.
 const FACE_TOLERANCE: f32 = 0.001;
+
+/// High bits of a face point's and an edge point's id.
+const FACE_ID: FeatureId = 1 << 24;
+const EDGE_ID: FeatureId = 2 << 24;
 
 /// A box in world space: centre, unit axes and half extents.
 struct Oriented {
@@ -58,14 +68,18 @@ impl Oriented {
         ]
     }
 
-    /// The edge parallel to `axes[k]` that lies furthest along `u`.
-    fn support_edge(&self, k: usize, u: Vec3) -> (Vec3, Vec3) {
+    /// The edge parallel to `axes[k]` that lies furthest along `u`, and which of the four it
+    /// is (two bits: the side taken along each other axis).
+    fn support_edge(&self, k: usize, u: Vec3) -> (Vec3, Vec3, FeatureId) {
         let mut centre = self.centre;
-        for m in (0..3).filter(|&m| m != k) {
-            centre += self.half[m] * self.axes[m].dot(u).signum() * self.axes[m];
+        let mut which = 0;
+        for (bit, m) in (0..3).filter(|&m| m != k).enumerate() {
+            let side = self.axes[m].dot(u).signum();
+            centre += self.half[m] * side * self.axes[m];
+            which |= FeatureId::from(side > 0.0) << bit;
         }
         let along = self.half[k] * self.axes[k];
-        (centre - along, centre + along)
+        (centre - along, centre + along, which)
     }
 }
 
@@ -142,8 +156,8 @@ pub fn box_box(
             if offset.dot(n) < 0.0 {
                 n = -n;
             }
-            let (a0, a1) = ba.support_edge(i, n);
-            let (b0, b1) = bb.support_edge(j, -n);
+            let (a0, a1, edge_a) = ba.support_edge(i, n);
+            let (b0, b1, edge_b) = bb.support_edge(j, -n);
             let (pa, pb) = closest_points_on_segments(a0, a1, b0, b1);
             let separation = (pb - pa).dot(n);
             if separation < margin {
@@ -152,6 +166,7 @@ pub fn box_box(
                     point_a: pa,
                     point_b: pb,
                     separation,
+                    id: EDGE_ID | ((3 * i + j) as FeatureId) << 4 | edge_a << 2 | edge_b,
                 });
             }
         }
@@ -180,22 +195,32 @@ fn clip_face(
         .unwrap_or(0);
     let sign = -incident.axes[m].dot(n).signum();
     let mut polygon = Polygon::from(incident.face(m, sign));
-    for side in [(k + 1) % 3, (k + 2) % 3] {
+    for (plane, side) in [(k + 1) % 3, (k + 2) % 3].into_iter().enumerate() {
         let (u, e) = (reference.axes[side], reference.half[side]);
         let along = face_centre.dot(u);
-        polygon.clip(u, along + e);
-        polygon.clip(-u, -along + e);
+        polygon.clip(u, along + e, 4 + 2 * plane as u8);
+        polygon.clip(-u, -along + e, 5 + 2 * plane as u8);
     }
-    for &p in polygon.points() {
+    // the faces as 0..6: axis index and side
+    let face_code = |axis: usize, outward: Vec3, of: &Oriented| {
+        (2 * axis) as FeatureId + FeatureId::from(of.axes[axis].dot(outward) > 0.0)
+    };
+    let faces = FACE_ID
+        | FeatureId::from(flipped) << 20
+        | face_code(k, n, reference) << 16
+        | face_code(m, -n, incident) << 12;
+    for (&p, &vertex) in polygon.points().iter().zip(polygon.ids()) {
         let depth = (p - face_centre).dot(n);
         if depth < margin {
             let on_face = p - depth * n;
+            let id = faces | FeatureId::from(vertex);
             out.push(if flipped {
                 Feature {
                     normal: -n,
                     point_a: p,
                     point_b: on_face,
                     separation: depth,
+                    id,
                 }
             } else {
                 Feature {
@@ -203,15 +228,19 @@ fn clip_face(
                     point_a: on_face,
                     point_b: p,
                     separation: depth,
+                    id,
                 }
             });
         }
     }
 }
 
-/// A convex polygon of at most eight vertices, on the stack.
+/// A convex polygon of at most eight vertices, on the stack, each vertex named by the two
+/// features that meet there: `incoming << 3 | outgoing`, where 0..4 are the incident face's
+/// edges (edge i runs from corner i to corner i + 1) and 4..8 the reference face's side planes.
 struct Polygon {
     vertices: [Vec3; 8],
+    ids: [u8; 8],
     len: usize,
 }
 
@@ -219,34 +248,57 @@ impl Polygon {
     fn from(quad: [Vec3; 4]) -> Self {
         let mut vertices = [Vec3::ZERO; 8];
         vertices[..4].copy_from_slice(&quad);
-        Polygon { vertices, len: 4 }
+        let mut ids = [0; 8];
+        for (i, id) in ids.iter_mut().take(4).enumerate() {
+            *id = ((i as u8 + 3) % 4) << 3 | i as u8;
+        }
+        Polygon {
+            vertices,
+            ids,
+            len: 4,
+        }
     }
 
     fn points(&self) -> &[Vec3] {
         &self.vertices[..self.len]
     }
 
-    /// Keeps the part where `p . u <= limit` (Sutherland-Hodgman against one plane).
-    fn clip(&mut self, u: Vec3, limit: f32) {
+    fn ids(&self) -> &[u8] {
+        &self.ids[..self.len]
+    }
+
+    /// Keeps the part where `p . u <= limit` (Sutherland-Hodgman against side plane `plane`).
+    fn clip(&mut self, u: Vec3, limit: f32, plane: u8) {
         let mut kept = [Vec3::ZERO; 8];
+        let mut kept_ids = [0; 8];
         let mut len = 0;
         for index in 0..self.len {
             let p = self.vertices[index];
             let q = self.vertices[(index + 1) % self.len];
             let (dp, dq) = (p.dot(u) - limit, q.dot(u) - limit);
+            // the feature along which the polygon runs from p to q
+            let edge = self.ids[index] & 7;
             // vertices within EPS of the plane are on it: kept, and no crossing made there
             const EPS: f32 = 1e-6;
             if dp <= EPS && len < 8 {
                 kept[len] = p;
+                kept_ids[len] = self.ids[index];
                 len += 1;
             }
             let crosses = (dp < -EPS && dq > EPS) || (dp > EPS && dq < -EPS);
             if crosses && len < 8 {
                 kept[len] = p + (q - p) * (dp / (dp - dq));
+                // leaving the kept side: along the edge, then the plane; entering: the reverse
+                kept_ids[len] = if dp < 0.0 {
+                    edge << 3 | plane
+                } else {
+                    plane << 3 | edge
+                };
                 len += 1;
             }
         }
         self.vertices = kept;
+        self.ids = kept_ids;
         self.len = len;
     }
 }
@@ -283,6 +335,44 @@ mod tests {
                 (f.point_b.x.abs() - 0.2).abs() < 1e-5 && (f.point_b.z.abs() - 0.15).abs() < 1e-5
             );
         }
+    }
+
+    /// The ids of a pair's points, sorted, and checked unique.
+    fn ids(a: &Body, b: &Body, half: Vec3) -> Vec<FeatureId> {
+        let mut out = Vec::new();
+        box_box(a, half, b, half, 0.02, &mut out);
+        let mut ids: Vec<FeatureId> = out.iter().map(|f| f.id).collect();
+        ids.sort_unstable();
+        let before = ids.len();
+        ids.dedup();
+        assert_eq!(ids.len(), before, "ids repeat: {out:?}");
+        ids
+    }
+
+    #[test]
+    fn feature_ids_are_unique_and_survive_small_motion() {
+        let half = Vec3::new(0.2, 0.1, 0.15);
+        let lower = cuboid(half, Vec3::ZERO, Quat::IDENTITY);
+        // turned by 30 degrees on the lower box: the incident face is clipped by all four
+        // side planes, so the points are incident corners, crossings and reference corners
+        let turn = Quat::from_rotation_y(0.5);
+        let upper = cuboid(half, Vec3::new(0.0, 0.199, 0.0), turn);
+        let first = ids(&lower, &upper, half);
+        assert!(
+            first.len() > 4,
+            "clipped polygon has {} points",
+            first.len()
+        );
+        // a millimetre across and a small tilt later: the same features touch
+        let moved = cuboid(
+            half,
+            Vec3::new(0.001, 0.1985, -0.001),
+            Quat::from_rotation_x(0.002) * turn,
+        );
+        assert_eq!(ids(&lower, &moved, half), first);
+        // slid half off the lower box: some of those features no longer touch
+        let slid = cuboid(half, Vec3::new(0.3, 0.199, 0.0), turn);
+        assert_ne!(ids(&lower, &slid, half), first);
     }
 
     #[test]

@@ -13,12 +13,13 @@
 //! the friction impulse stays within `mu_s` times the normal impulse accumulated this step
 //! (sticking); beyond that at most `mu_d` times it is applied (sliding), so a block on a slope
 //! accelerates at `g (sin theta - mu_d cos theta)`. Slip is measured from a pair of friction
-//! anchors, body-space points that coincided when the contact began to stick. A contact found
-//! again next step at nearly the same body-space points (within [`ANCHOR_REACH`]) that stuck
-//! to the end of the step keeps its anchors, so the small slips left by a finite number of
-//! iterations are pulled back instead of adding up to creep (the same role as Box2D's anchors
-//! and warm starting); a sliding contact starts fresh anchors each step. Friction coefficients
-//! combine as the geometric mean. Restitution is a velocity pass after the positions (see
+//! anchors, body-space points that coincided when the contact began to stick. A point found
+//! again next step (same body pair, same shape features: [`manifold`]) that stuck to the end
+//! of the step carries its anchors' leftover slip into its new anchors, so the small slips
+//! left by a finite number of iterations are pulled back instead of adding up to creep (the
+//! role of Box2D's anchors and warm starting); a sliding contact starts fresh anchors each
+//! step. A pair keeps at most four points ([`manifold::reduce`]). Friction coefficients
+//! //! combine as the geometric mean. Restitution is a velocity pass after the positions (see
 //! [`Contacts::velocity_pass`]); a pair uses the larger coefficient.
 //!
 //! Filtering: bodies joined by a joint (unless `collide_connected`) or a rod never collide, and
@@ -27,6 +28,7 @@
 pub mod box_box;
 pub mod broadphase;
 pub mod lanes;
+pub mod manifold;
 pub mod narrowphase;
 
 use crate::body::{Body, BodyId};
@@ -34,16 +36,14 @@ use crate::constraint::Constraint;
 use crate::math::Vec3;
 use crate::solver_body::{pair_mut, SharedSlice, SolverBody};
 use broadphase::BroadPhase;
-use narrowphase::Feature;
-
-/// A new contact takes over the friction anchors of last step's contact between the same bodies
-/// whose body-space points lie within this distance (m) of its own.
-pub const ANCHOR_REACH: f32 = 0.01;
+use narrowphase::{Feature, FeatureId};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContactPoint {
     pub body_a: BodyId,
     pub body_b: BodyId,
+    /// The touching shape features, which recognise the point next step.
+    pub id: FeatureId,
     /// World normal from a to b, fixed for the step.
     pub normal: Vec3,
     /// Surface points in body space.
@@ -71,8 +71,11 @@ pub struct ContactPoint {
     /// Penetration (m) this substep may leave: what the point had at the substep's start less
     /// what the push-out speed limit removes in one substep (zero for a point not yet touching).
     allowed_penetration: f32,
-    /// Positional impulses accumulated this step (kg m).
+    /// Positional impulses accumulated this substep (kg m).
     normal_impulse: f32,
+    /// The normal impulse the point ended its last substep with (kg m), which warm starting
+    /// applies first.
+    warm_impulse: f32,
     friction_impulse: f32,
 }
 
@@ -256,6 +259,7 @@ impl Contacts {
             } else {
                 0.0
             };
+            point.warm_impulse = point.normal_impulse;
             point.normal_impulse = 0.0;
             point.friction_impulse = 0.0;
         };
@@ -264,6 +268,27 @@ impl Contacts {
             self.points.par_iter_mut().for_each(start);
         } else {
             self.points.iter_mut().for_each(start);
+        }
+    }
+
+    /// Warm starting: applies `fraction` of each point's last normal impulse to the preview
+    /// poses and makes it the substep's accumulated impulse, so the iterations build only the
+    /// rest of the push (and may give it back: the total stays `>= 0`).
+    pub fn warm_start(&mut self, bodies: &mut [SolverBody], fraction: f32) {
+        for point in &mut self.points {
+            point.warm_impulse *= fraction;
+            if point.warm_impulse <= 0.0 {
+                continue;
+            }
+            let (a, b) = pair_mut(bodies, point.body_a.index(), point.body_b.index());
+            let impulse = point.warm_impulse * point.normal;
+            if a.inverse_mass != 0.0 {
+                a.apply_positional_impulse(-impulse, point.arm_a);
+            }
+            if b.inverse_mass != 0.0 {
+                b.apply_positional_impulse(impulse, point.arm_b);
+            }
+            point.normal_impulse = point.warm_impulse;
         }
     }
 
@@ -432,19 +457,21 @@ impl PairContext<'_> {
                     .iter()
                     .map(|&(_, i)| &self.previous[i as usize])
             };
+            manifold::reduce(&mut out.features, 0);
             for f in &out.features {
                 let local_a = body_a.orientation.inverse() * (f.point_a - body_a.position);
                 let local_b = body_b.orientation.inverse() * (f.point_b - body_b.position);
-                let kept = previous.clone().find(|p| {
-                    p.sticking
-                        && p.local_a.distance(local_a) < ANCHOR_REACH
-                        && p.local_b.distance(local_b) < ANCHOR_REACH
+                let same = previous.clone().find(|p| p.id == f.id);
+                let warm_impulse = same.map_or(0.0, |p| p.normal_impulse);
+                let kept = same.filter(|p| p.sticking);
+                let (anchor_a, anchor_b) = kept.map_or((local_a, local_b), |p| {
+                    let anchors = (p.anchor_a, p.anchor_b);
+                    manifold::carried_anchors(anchors, body_a, body_b, f.normal, (local_a, local_b))
                 });
-                let (anchor_a, anchor_b) =
-                    kept.map_or((local_a, local_b), |p| (p.anchor_a, p.anchor_b));
                 out.points.push(ContactPoint {
                     body_a: BodyId(a),
                     body_b: BodyId(b),
+                    id: f.id,
                     normal: f.normal,
                     local_a,
                     local_b,
@@ -460,7 +487,8 @@ impl PairContext<'_> {
                         body_a, body_b, f.point_a, f.point_b, f.normal,
                     ),
                     allowed_penetration: 0.0,
-                    normal_impulse: 0.0,
+                    normal_impulse: warm_impulse,
+                    warm_impulse: 0.0,
                     friction_impulse: 0.0,
                 });
             }

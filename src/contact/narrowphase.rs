@@ -7,14 +7,25 @@ use crate::math::Vec3;
 use crate::shape::Shape;
 
 /// A contact found between bodies a and b: world normal from a to b, world points on each
-/// surface, and their separation along the normal (negative when penetrating).
+/// surface, their separation along the normal (negative when penetrating), and which features
+/// of the two shapes meet there.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Feature {
     pub normal: Vec3,
     pub point_a: Vec3,
     pub point_b: Vec3,
     pub separation: f32,
+    /// The touching features (a box corner, a cap, a clipped edge; see [`FeatureId`]).
+    pub id: FeatureId,
 }
+
+/// Names the features of the two shapes that meet at a contact point, unique among one pair's
+/// points: a point found again next step with the same id on the same body pair is the same
+/// contact (Box2D v3's `b2ManifoldPoint::id`, Jolt's feature keys), whatever its distance
+/// from last step's. Capsules: 0 for the closest points, 1 and 2 for the two ends of a
+/// parallel overlap or the two cap centres; a box against a half-space: the corner index;
+/// boxes: [`super::box_box`].
+pub type FeatureId = u32;
 
 /// World segment (cap centres) and radius of a sphere or capsule.
 pub fn segment(body: &Body) -> Option<(Vec3, Vec3, f32)> {
@@ -74,7 +85,7 @@ pub fn capsule_capsule(a: &Body, b: &Body, margin: f32, out: &mut Vec<Feature>) 
     let (Some((a0, a1, ra)), Some((b0, b1, rb))) = (segment(a), segment(b)) else {
         return;
     };
-    let mut push = |pa: Vec3, pb: Vec3| {
+    let mut push = |pa: Vec3, pb: Vec3, id: FeatureId| {
         let delta = pb - pa;
         let distance = delta.length();
         let normal = if distance > 1e-9 {
@@ -89,6 +100,7 @@ pub fn capsule_capsule(a: &Body, b: &Body, margin: f32, out: &mut Vec<Feature>) 
                 point_a: pa + ra * normal,
                 point_b: pb - rb * normal,
                 separation,
+                id,
             });
         }
     };
@@ -102,16 +114,16 @@ pub fn capsule_capsule(a: &Body, b: &Body, margin: f32, out: &mut Vec<Feature>) 
         let project = |p: Vec3| (p - a0).dot(axis).clamp(0.0, da.length());
         let (s0, s1) = (project(b0), project(b1));
         if (s0 - s1).abs() > 1e-6 {
-            for s in [s0, s1] {
+            for (s, id) in [(s0, 1), (s1, 2)] {
                 let pa = a0 + s * axis;
                 let (_, pb) = closest_points_on_segments(pa, pa, b0, b1);
-                push(pa, pb);
+                push(pa, pb, id);
             }
             return;
         }
     }
     let (pa, pb) = closest_points_on_segments(a0, a1, b0, b1);
-    push(pa, pb);
+    push(pa, pb, 0);
 }
 
 /// Half-space (body a: the plane through its position with normal `orientation * +Y`, solid
@@ -126,7 +138,7 @@ pub fn half_space_capsule(plane: &Body, b: &Body, margin: f32, out: &mut Vec<Fea
     } else {
         &[b0, b1]
     };
-    for &c in ends {
+    for (id, &c) in (0..).zip(ends) {
         let height = (c - plane.position).dot(normal);
         let separation = height - rb;
         if separation < margin {
@@ -135,6 +147,7 @@ pub fn half_space_capsule(plane: &Body, b: &Body, margin: f32, out: &mut Vec<Fea
                 point_a: c - height * normal,
                 point_b: c - rb * normal,
                 separation,
+                id,
             });
         }
     }
@@ -155,7 +168,7 @@ fn box_corners(body: &Body, half: Vec3) -> [Vec3; 8] {
 /// Half-space against a box: one point per corner within reach.
 pub fn half_space_box(plane: &Body, b: &Body, half: Vec3, margin: f32, out: &mut Vec<Feature>) {
     let normal = plane.orientation * Vec3::Y;
-    for corner in box_corners(b, half) {
+    for (id, corner) in (0..).zip(box_corners(b, half)) {
         let separation = (corner - plane.position).dot(normal);
         if separation < margin {
             out.push(Feature {
@@ -163,6 +176,7 @@ pub fn half_space_box(plane: &Body, b: &Body, half: Vec3, margin: f32, out: &mut
                 point_a: corner - separation * normal,
                 point_b: corner,
                 separation,
+                id,
             });
         }
     }
@@ -207,7 +221,7 @@ pub fn box_capsule(a: &Body, half: Vec3, b: &Body, margin: f32, out: &mut Vec<Fe
         p = closest_points_on_segments(s0, s1, q, q).0;
     }
     let first = out.len();
-    for candidate in [p, s0, s1] {
+    for (id, candidate) in (0..).zip([p, s0, s1]) {
         let (surface, normal, distance) = point_box(candidate, half);
         let separation = distance - radius;
         let on_b = candidate - radius * normal;
@@ -220,6 +234,7 @@ pub fn box_capsule(a: &Body, half: Vec3, b: &Body, margin: f32, out: &mut Vec<Fe
                 point_a: a.world_point(surface),
                 point_b: a.world_point(on_b),
                 separation,
+                id,
             });
         }
     }
@@ -246,7 +261,7 @@ pub fn collide(a: &Body, b: &Body, margin: f32, out: &mut Vec<Feature>) -> bool 
                     normal: -f.normal,
                     point_a: f.point_b,
                     point_b: f.point_a,
-                    separation: f.separation,
+                    ..*f
                 };
             }
         }

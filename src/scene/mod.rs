@@ -82,6 +82,10 @@ pub struct SceneDef {
     /// `inf` (the default) pushes it out at once, the paper-era projection.
     #[serde(default = "default_contact_push_speed")]
     pub contact_push_speed: f32,
+    /// Each substep starts its contacts with this fraction of their last impulses (warm
+    /// starting, 0 to 1); 0 (the default) is the paper's method.
+    #[serde(default)]
+    pub contact_warm_start: f32,
     /// Print a residual row every this many frames (0: only the summary).
     #[serde(default)]
     pub report_every: u32,
@@ -676,6 +680,15 @@ impl Scene {
                 ),
             ));
         }
+        if !(0.0..=1.0).contains(&d.contact_warm_start) {
+            return Err((
+                key("contact_warm_start"),
+                format!(
+                    "must be a fraction from 0 to 1, got {}",
+                    d.contact_warm_start
+                ),
+            ));
+        }
         if let Some(k) = &d.kinematics {
             let field = |f: &str| vec![Seg::Key("kinematics".into()), Seg::Key(f.into())];
             if !(k.length > 0.0) {
@@ -818,6 +831,7 @@ impl Scene {
             contacts: d.contacts,
             contact_margin: d.contact_margin,
             contact_push_speed: d.contact_push_speed,
+            contact_warm_start: d.contact_warm_start,
             sleep: d.sleep,
             linear_damping: d.damping[0],
             angular_damping: d.damping[1],

@@ -115,6 +115,10 @@ pub struct Settings {
     pub contact_margin: f32,
     /// Deep overlap is pushed out no faster than this (m/s); infinity pushes it out at once.
     pub contact_push_speed: f32,
+    /// Each substep starts every contact point with this fraction of the normal impulse it
+    /// ended the last substep with (warm starting; Rapier's `warmstart_coefficient`); a point
+    /// found again next frame keeps it ([`crate::contact::manifold`]). 0 is the paper's method.
+    pub contact_warm_start: f32,
     /// Islands of bodies that stay still fall asleep and leave the step ([`crate::sleep`]).
     /// Off (the default) in the paper's scenes, whose residuals are measured every frame.
     pub sleep: bool,
@@ -137,6 +141,7 @@ impl Default for Settings {
             contacts: false,
             contact_margin: 0.02,
             contact_push_speed: DEFAULT_CONTACT_PUSH_SPEED,
+            contact_warm_start: 0.0,
             sleep: false,
             linear_damping: 0.0,
             angular_damping: 0.0,
@@ -281,6 +286,9 @@ impl Solver {
                 .for_each(|r| r.begin_substep(bodies_now));
         }
         contacts.begin_substep(bodies, h, settings.contact_push_speed);
+        if settings.contact_warm_start > 0.0 {
+            contacts.warm_start(&mut self.bodies, settings.contact_warm_start);
+        }
         self.profile.integrate += lap(&mut clock);
         // 3.3 fixed iterations, kind by kind, colour by colour
         let shared = SharedBodies::new(&mut self.bodies);
