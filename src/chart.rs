@@ -5,7 +5,7 @@
 //! Hand-written rather than taken from a plotting crate: a chart is a few dozen lines of SVG,
 //! while a crate would pull font rasterisers and image codecs into every build of the lab.
 
-const WIDTH: f64 = 900.0;
+const WIDTH: f64 = 1000.0;
 const HEIGHT: f64 = 560.0;
 /// The plot rectangle; the right margin holds the legend so it never covers data or labels.
 const LEFT: f64 = 100.0;
@@ -25,7 +25,7 @@ pub const PALETTE: [[u8; 3]; 8] = [
     [0xF0, 0xE4, 0x42],
 ];
 /// Longer legend labels are cut so that the legend stays inside the image.
-const LEGEND_CHARS: usize = 22;
+const LEGEND_CHARS: usize = 34;
 const MIDDLE: &str = r#"text-anchor="middle""#;
 
 /// One line of the chart: a label and its points (x, y), drawn in the given order.
@@ -45,7 +45,7 @@ pub struct Chart {
 }
 
 impl Chart {
-    /// The chart as an SVG document (width 900, height 560 px).
+    /// The chart as an SVG document (width 1000, height 560 px).
     pub fn to_svg(&self) -> String {
         // Axes fit only the points that get drawn: a skipped point must not stretch the other axis.
         let drawable = |&&(x, y): &&(f64, f64)| {

@@ -273,10 +273,13 @@ impl Contacts {
 
     /// Warm starting: applies `fraction` of each point's last normal impulse to the preview
     /// poses and makes it the substep's accumulated impulse, so the iterations build only the
-    /// rest of the push (and may give it back: the total stays `>= 0`).
-    pub fn warm_start(&mut self, bodies: &mut [SolverBody], fraction: f32) {
+    /// rest of the push (and may give it back: the total stays `>= 0`). Only resting points,
+    /// which approached slower than `impact_speed` (m/s) when found: an impact's impulse stops
+    /// a fall once, and repeating it next substep would throw the body back.
+    pub fn warm_start(&mut self, bodies: &mut [SolverBody], fraction: f32, impact_speed: f32) {
         for point in &mut self.points {
-            point.warm_impulse *= fraction;
+            let resting = point.approach_speed >= -impact_speed;
+            point.warm_impulse *= if resting { fraction } else { 0.0 };
             if point.warm_impulse <= 0.0 {
                 continue;
             }

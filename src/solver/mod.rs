@@ -286,8 +286,10 @@ impl Solver {
                 .for_each(|r| r.begin_substep(bodies_now));
         }
         contacts.begin_substep(bodies, h, settings.contact_push_speed);
+        // impacts faster than two frames of free fall bounce (step 3.5), and are not warm-started
+        let impact_speed = 2.0 * settings.gravity.length() * settings.dt;
         if settings.contact_warm_start > 0.0 {
-            contacts.warm_start(&mut self.bodies, settings.contact_warm_start);
+            contacts.warm_start(&mut self.bodies, settings.contact_warm_start, impact_speed);
         }
         self.profile.integrate += lap(&mut clock);
         // 3.3 fixed iterations, kind by kind, colour by colour
@@ -339,10 +341,9 @@ impl Solver {
         // 3.5 the contacts' velocity pass; bounces slower than two frames of free fall stay
         // inelastic
         if settings.contacts {
-            let threshold = 2.0 * settings.gravity.length() * settings.dt;
             let colours = &self.contact_colours;
             let ranges = colours.ranges().map(|(c, r)| (r, !colours.is_overflow(c)));
-            contacts.velocity_pass(bodies, threshold, ranges);
+            contacts.velocity_pass(bodies, impact_speed, ranges);
         }
         self.profile.velocity_pass += lap(&mut clock);
     }
