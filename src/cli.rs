@@ -95,6 +95,9 @@ pub struct SweepArgs {
     /// Contact warm-start fractions (0 to 1), comma separated; default the scene's.
     #[arg(long, value_delimiter = ',', value_parser = unit_interval)]
     pub contact_warm_start: Vec<f32>,
+    /// Soft-contact frequencies (Hz, 0: hard), comma separated; default the scene's.
+    #[arg(long, value_delimiter = ',', value_parser = non_negative)]
+    pub contact_hertz: Vec<f32>,
     /// Worker threads of the solver; default rayon's (one per core).
     #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
     pub threads: Option<u64>,
@@ -132,6 +135,12 @@ pub struct OverrideArgs {
     /// scene's `contact_warm_start`).
     #[arg(long, value_parser = unit_interval)]
     pub contact_warm_start: Option<f32>,
+    /// Soft contacts' natural frequency (Hz; 0: hard, the paper's; default the scene's).
+    #[arg(long, value_parser = non_negative)]
+    pub contact_hertz: Option<f32>,
+    /// Soft contacts' damping ratio (default the scene's).
+    #[arg(long, value_parser = non_negative)]
+    pub contact_damping_ratio: Option<f32>,
     /// Worker threads of the solver; default rayon's (one per core).
     #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
     pub threads: Option<u64>,
@@ -173,6 +182,14 @@ fn unit_interval(s: &str) -> Result<f32, String> {
     }
 }
 
+fn non_negative(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if v >= 0.0 && v.is_finite() => Ok(v),
+        Ok(v) => Err(format!("must be 0 or more, got {v}")),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
 fn positive_seconds(s: &str) -> Result<f32, String> {
     match s.parse::<f32>() {
         Ok(v) if v > 0.0 && v.is_finite() => Ok(v),
@@ -198,6 +215,8 @@ impl From<&OverrideArgs> for Overrides {
             sleep: a.sleep,
             contact_push_speed: a.contact_push_speed,
             contact_warm_start: a.contact_warm_start,
+            contact_hertz: a.contact_hertz,
+            contact_damping_ratio: a.contact_damping_ratio,
             dt: a.dt,
             frames: a.frames,
             spine: a.spine,
@@ -240,6 +259,7 @@ fn dispatch(cli: Cli, matches: &ArgMatches) -> anyhow::Result<()> {
                 substeps: args.substeps,
                 solvers: args.solver,
                 warm_starts: args.contact_warm_start,
+                contact_hertz: args.contact_hertz,
                 frames: args.frames,
                 repeats: args.repeats,
             };
@@ -406,13 +426,14 @@ fn sweep(
     let mut rows = Vec::with_capacity(combinations.len());
     for overrides in &combinations {
         progress.show(&format!(
-            "{}/{} {} dt={:.4} substeps={} warm={} iterations={}",
+            "{}/{} {} dt={:.4} substeps={} warm={} soft={}Hz iterations={}",
             overrides.spine.unwrap_or_default(),
             overrides.joint_flavour.unwrap_or_default(),
             overrides.solver.unwrap_or(scene.def.solver),
             overrides.dt.unwrap_or(scene.def.dt),
             overrides.substeps.unwrap_or(scene.def.substeps),
             (overrides.contact_warm_start).unwrap_or(scene.def.contact_warm_start),
+            (overrides.contact_hertz).unwrap_or(scene.def.contact_hertz),
             overrides.iterations.unwrap_or(scene.def.iterations)
         ));
         rows.push(sweep::run_one(&scene, overrides, config.repeats)?);

@@ -44,6 +44,8 @@ pub struct Overrides {
     pub sleep: Option<bool>,
     pub contact_push_speed: Option<f32>,
     pub contact_warm_start: Option<f32>,
+    pub contact_hertz: Option<f32>,
+    pub contact_damping_ratio: Option<f32>,
     pub dt: Option<f32>,
     pub frames: Option<u32>,
     pub spine: Option<SpineKind>,
@@ -72,6 +74,12 @@ impl Overrides {
         }
         if let Some(v) = self.contact_warm_start {
             def.contact_warm_start = v;
+        }
+        if let Some(v) = self.contact_hertz {
+            def.contact_hertz = v;
+        }
+        if let Some(v) = self.contact_damping_ratio {
+            def.contact_damping_ratio = v;
         }
         if let Some(v) = self.dt {
             def.dt = v;

@@ -1,18 +1,18 @@
 //! Contact points W at a time (`contact::lanes`) against the scalar `ContactPoint::solve`: the
 //! same bodies after one projection to rounding, for points that penetrate and slide (normal
 //! push and friction, sticking and sliding), points still apart, and a static floor shared by
-//! every lane.
+//! every lane; hard and soft (XPBD compliance and damping).
 
 use rodlab::body::{Body, BodyKind};
-use rodlab::contact::{lanes, ContactPoint, Contacts};
+use rodlab::contact::{lanes, ContactPoint, Contacts, Softness};
 use rodlab::math::{Quat, Vec3};
 use rodlab::shape::{Axis, Shape};
 use rodlab::solver::body::{pair_mut, SharedBodies, SolverBody};
 
 /// Eight capsules just above a floor, each tilted and spinning a little; their first contact
 /// point each (found speculatively), and the solver bodies moved to a preview that penetrates
-/// and slides by `slide` (m).
-fn setup(slide: f32) -> (Vec<SolverBody>, Vec<ContactPoint>) {
+/// and slides by `slide` (m); the points soft as `soft` says.
+fn setup(slide: f32, soft: Softness) -> (Vec<SolverBody>, Vec<ContactPoint>) {
     let mut bodies = vec![Body::new("floor", BodyKind::Fixed, Shape::HalfSpace, 1.0)];
     for i in 0..8 {
         let x = i as f32;
@@ -33,6 +33,7 @@ fn setup(slide: f32) -> (Vec<SolverBody>, Vec<ContactPoint>) {
     }
     let mut contacts = Contacts::default();
     contacts.detect(&bodies, &[], 1.0 / 60.0, 0.05);
+    contacts.begin_substep(&bodies, 1.0 / 60.0, f32::INFINITY, soft);
     let mut points: Vec<ContactPoint> = Vec::new();
     for p in &contacts.points {
         if !points.iter().any(|q| q.body_b == p.body_b) {
@@ -53,8 +54,8 @@ fn setup(slide: f32) -> (Vec<SolverBody>, Vec<ContactPoint>) {
     (solver, points)
 }
 
-fn compare(slide: f32) {
-    let (bodies, points) = setup(slide);
+fn compare(slide: f32, soft: Softness) {
+    let (bodies, points) = setup(slide, soft);
     let mut scalar = bodies.clone();
     let mut scalar_points = points.clone();
     for p in &mut scalar_points {
@@ -101,10 +102,20 @@ fn compare(slide: f32) {
 
 #[test]
 fn sticking_points_agree_with_the_scalar_solve() {
-    compare(0.001);
+    compare(0.001, Softness::default());
 }
 
 #[test]
 fn sliding_points_agree_with_the_scalar_solve() {
-    compare(0.05);
+    compare(0.05, Softness::default());
+}
+
+#[test]
+fn soft_points_agree_with_the_scalar_solve() {
+    let soft = Softness {
+        hertz: 20.0,
+        damping_ratio: 0.7,
+    };
+    compare(0.001, soft);
+    compare(0.05, soft);
 }

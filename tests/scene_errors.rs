@@ -127,6 +127,33 @@ fn warm_start_outside_zero_to_one() {
 }
 
 #[test]
+fn negative_or_infinite_contact_softness() {
+    for (key, bad, message) in [
+        (
+            "contact_hertz",
+            "-1.0",
+            "must be a frequency of 0 Hz or more",
+        ),
+        (
+            "contact_hertz",
+            "inf",
+            "must be a frequency of 0 Hz or more",
+        ),
+        ("contact_damping_ratio", "-0.5", "must be 0 or more"),
+        ("contact_damping_ratio", "nan", "must be 0 or more"),
+    ] {
+        let e = error_for(
+            "iterations = 10",
+            &format!("iterations = 10\n{key} = {bad}"),
+        );
+        assert!(
+            e.starts_with(&format!("scenes/x.toml:4: {key}: {message}")),
+            "{e}"
+        );
+    }
+}
+
+#[test]
 fn sleep_and_push_speed_reach_the_settings() {
     let default = Scene::parse("scenes/x.toml", GOOD)
         .unwrap()
@@ -136,9 +163,11 @@ fn sleep_and_push_speed_reach_the_settings() {
     assert!(!default.settings.sleep);
     assert_eq!(default.settings.contact_push_speed, f32::INFINITY);
     assert_eq!(default.settings.contact_warm_start, 0.0);
+    assert_eq!(default.settings.contact_hertz, 0.0);
     let text = GOOD.replacen(
         "iterations = 10",
-        "iterations = 10\nsleep = true\ncontact_push_speed = 3.0\ncontact_warm_start = 0.25",
+        "iterations = 10\nsleep = true\ncontact_push_speed = 3.0\ncontact_warm_start = 0.25\n\
+         contact_hertz = 30.0\ncontact_damping_ratio = 0.5",
         1,
     );
     let world = Scene::parse("scenes/x.toml", &text)
@@ -149,6 +178,8 @@ fn sleep_and_push_speed_reach_the_settings() {
     assert!(world.settings.sleep);
     assert_eq!(world.settings.contact_push_speed, 3.0);
     assert_eq!(world.settings.contact_warm_start, 0.25);
+    assert_eq!(world.settings.contact_hertz, 30.0);
+    assert_eq!(world.settings.contact_damping_ratio, 0.5);
 }
 
 #[test]

@@ -53,7 +53,13 @@ pub fn solve_lanes<L: Lane>(rows: &mut [ContactPoint], bodies: SharedBodies) {
     let rb = V3::<L>::from_fn(|i| rows[i].arm_b);
     let w = a.positional_inverse_mass(ra, n) + b.positional_inverse_mass(rb, n);
     let active = w.gt(zero) & (separation.lt(zero) | normal_impulse.gt(zero));
-    let total = (normal_impulse - separation / w.max(L::splat(f32::MIN_POSITIVE))).max(zero);
+    // soft contacts as the scalar code (zero compliance and damping: the hard projection)
+    let soft = L::from_fn(|i| rows[i].compliance) * w;
+    let damping = L::from_fn(|i| rows[i].damping);
+    let start = L::from_fn(|i| rows[i].start_separation);
+    let error = separation + soft * normal_impulse + damping * (separation - start);
+    let denominator = (L::splat(1.0) + damping) * w + soft;
+    let total = (normal_impulse - error / denominator.max(L::splat(f32::MIN_POSITIVE))).max(zero);
     let total = active.select(total, normal_impulse);
     let lambda = total - normal_impulse;
     normal_impulse = total;

@@ -71,6 +71,13 @@ pub struct ContactPoint {
     /// Penetration (m) this substep may leave: what the point had at the substep's start less
     /// what the push-out speed limit removes in one substep (zero for a point not yet touching).
     allowed_penetration: f32,
+    /// Soft contact ([`Softness`]) this substep: compliance over inverse mass, `1 / (omega h)^2`,
+    /// and the damping term `2 zeta / (omega h)`; both zero for the paper's hard contact.
+    compliance: f32,
+    damping: f32,
+    /// The separation the solve measures (with the allowed penetration) at the substep's start,
+    /// which soft contacts damp against.
+    start_separation: f32,
     /// Positional impulses accumulated this substep (kg m).
     normal_impulse: f32,
     /// The normal impulse the point ended its last substep with (kg m), which warm starting
@@ -100,7 +107,13 @@ impl ContactPoint {
         // give back what earlier iterations pushed too far, but never pull (total >= 0).
         let w = a.positional_inverse_mass(ra, n) + b.positional_inverse_mass(rb, n);
         if w > 0.0 && (separation < 0.0 || self.normal_impulse > 0.0) {
-            let total = (self.normal_impulse - separation / w).max(0.0);
+            // XPBD (Macklin et al. 2016) with compliance alpha~ = compliance w and damping
+            // gamma; both zero, this is the hard projection total = P - C / w
+            let soft = self.compliance * w;
+            let error = separation
+                + soft * self.normal_impulse
+                + self.damping * (separation - self.start_separation);
+            let total = (self.normal_impulse - error / ((1.0 + self.damping) * w + soft)).max(0.0);
             let lambda = total - self.normal_impulse;
             self.normal_impulse = total;
             a.apply_positional_impulse(-lambda * n, ra);
@@ -136,6 +149,35 @@ impl ContactPoint {
             b.apply_positional_impulse(-applied * t, rb);
             self.friction_impulse += applied;
         }
+    }
+}
+
+/// Soft contacts: a contact point as a damped spring of `hertz` natural frequency and
+/// `damping_ratio` (Box2D v3's contact softness, solved here in XPBD's compliance form, Macklin
+/// et al. 2016). With `w` a point's inverse effective mass, omega = 2 pi hertz and substep `h`:
+/// stiffness `k = omega^2 / w` and damping `c = 2 zeta omega / w`, so XPBD's
+/// `alpha~ = 1 / (k h^2) = w / (omega h)^2` and `gamma = c / (k h) = 2 zeta / (omega h)`, and
+/// each iteration's impulse is `-(C + alpha~ P + gamma (C - C_0)) / ((1 + gamma) w + alpha~)`.
+/// The stiffness scales with the point's effective mass, so a soft contact sags the same
+/// under any load of its own weight (`g / omega^2`: 0.28 mm at 30 Hz). `hertz = 0` is the
+/// paper's hard projection.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Softness {
+    pub hertz: f32,
+    pub damping_ratio: f32,
+}
+
+impl Softness {
+    /// `(1 / (omega h)^2, 2 zeta / (omega h))`, or zeros for a hard contact.
+    pub fn substep_constants(self, h: f32) -> (f32, f32) {
+        if self.hertz <= 0.0 {
+            return (0.0, 0.0);
+        }
+        let omega_h = std::f32::consts::TAU * self.hertz * h;
+        (
+            1.0 / (omega_h * omega_h),
+            2.0 * self.damping_ratio / omega_h,
+        )
     }
 }
 
@@ -250,14 +292,22 @@ impl Contacts {
     /// turns into that depth over `h` of velocity; in a pile those kicks spin limbs up until a
     /// joint limit throws them (arms at 600 rad/s at 4 substeps, before the limit). A point not
     /// yet touching must not penetrate at all, so fast bodies still stop at the surface.
-    pub fn begin_substep(&mut self, bodies: &[Body], h: f32, push_speed: f32) {
+    ///
+    /// Soft contacts take their per-substep constants here (see [`Softness`]).
+    pub fn begin_substep(&mut self, bodies: &[Body], h: f32, push_speed: f32, soft: Softness) {
+        let (compliance, damping) = soft.substep_constants(h);
         let start = |point: &mut ContactPoint| {
+            let (a, b) = (&bodies[point.body_a.index()], &bodies[point.body_b.index()]);
             point.allowed_penetration = if push_speed.is_finite() {
-                let (a, b) = (&bodies[point.body_a.index()], &bodies[point.body_b.index()]);
                 let depth = -point.separation_at(a, b);
                 (depth - push_speed * h).max(0.0)
             } else {
                 0.0
+            };
+            (point.compliance, point.damping) = (compliance, damping);
+            point.start_separation = match damping > 0.0 {
+                true => point.separation_at(a, b) + point.allowed_penetration,
+                false => 0.0,
             };
             point.warm_impulse = point.normal_impulse;
             point.normal_impulse = 0.0;
@@ -353,7 +403,8 @@ impl Contacts {
 const PARALLEL_VELOCITY_POINTS: usize = 1024;
 
 /// [`Contacts::velocity_pass`] of one point that pushed: its relative normal velocity to the
-/// bounce, or to zero. A sleeping body counts as immovable; only awake dynamic bodies change.
+/// bounce, or to zero (a soft contact, [`Softness`], keeps its spring's velocity unless it
+/// bounces). A sleeping body counts as immovable; only awake dynamic bodies change.
 ///
 /// # Safety
 /// No other thread may access the point's awake dynamic bodies meanwhile, nor write its others.
@@ -367,6 +418,10 @@ unsafe fn velocity_pass_point(p: &ContactPoint, bodies: SharedSlice<Body>, thres
         let (a, b) = (&*pa, &*pb);
         let now = relative_normal_velocity(a, b, a.position + ra, b.position + rb, p.normal);
         let bounce = p.restitution > 0.0 && p.approach_speed < -threshold;
+        // a soft contact is a damped spring: its velocity is the spring's, not a projection's
+        if !bounce && p.compliance > 0.0 {
+            return;
+        }
         let target = if bounce {
             -p.restitution * p.approach_speed
         } else {
@@ -490,6 +545,9 @@ impl PairContext<'_> {
                         body_a, body_b, f.point_a, f.point_b, f.normal,
                     ),
                     allowed_penetration: 0.0,
+                    compliance: 0.0,
+                    damping: 0.0,
+                    start_separation: 0.0,
                     normal_impulse: warm_impulse,
                     warm_impulse: 0.0,
                     friction_impulse: 0.0,

@@ -86,6 +86,13 @@ pub struct SceneDef {
     /// starting, 0 to 1); 0 (the default) is the paper's method.
     #[serde(default)]
     pub contact_warm_start: f32,
+    /// Soft contacts: each point a damped spring of this natural frequency (Hz); 0 (the
+    /// default) is the paper's hard projection.
+    #[serde(default)]
+    pub contact_hertz: f32,
+    /// The soft contacts' damping ratio (1: critical, the default).
+    #[serde(default = "default_contact_damping_ratio")]
+    pub contact_damping_ratio: f32,
     /// Print a residual row every this many frames (0: only the summary).
     #[serde(default)]
     pub report_every: u32,
@@ -264,6 +271,10 @@ pub struct KinematicsDef {
 fn default_contact_margin() -> f32 {
     0.02
 }
+fn default_contact_damping_ratio() -> f32 {
+    1.0
+}
+
 fn default_contact_push_speed() -> f32 {
     crate::solver::DEFAULT_CONTACT_PUSH_SPEED
 }
@@ -689,6 +700,21 @@ impl Scene {
                 ),
             ));
         }
+        if !(d.contact_hertz >= 0.0 && d.contact_hertz.is_finite()) {
+            return Err((
+                key("contact_hertz"),
+                format!(
+                    "must be a frequency of 0 Hz or more, got {}",
+                    d.contact_hertz
+                ),
+            ));
+        }
+        if !(d.contact_damping_ratio >= 0.0 && d.contact_damping_ratio.is_finite()) {
+            return Err((
+                key("contact_damping_ratio"),
+                format!("must be 0 or more, got {}", d.contact_damping_ratio),
+            ));
+        }
         if let Some(k) = &d.kinematics {
             let field = |f: &str| vec![Seg::Key("kinematics".into()), Seg::Key(f.into())];
             if !(k.length > 0.0) {
@@ -832,6 +858,8 @@ impl Scene {
             contact_margin: d.contact_margin,
             contact_push_speed: d.contact_push_speed,
             contact_warm_start: d.contact_warm_start,
+            contact_hertz: d.contact_hertz,
+            contact_damping_ratio: d.contact_damping_ratio,
             sleep: d.sleep,
             linear_damping: d.damping[0],
             angular_damping: d.damping[1],

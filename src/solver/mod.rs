@@ -119,6 +119,10 @@ pub struct Settings {
     /// ended the last substep with (warm starting; Rapier's `warmstart_coefficient`); a point
     /// found again next frame keeps it ([`crate::contact::manifold`]). 0 is the paper's method.
     pub contact_warm_start: f32,
+    /// Soft contacts: natural frequency (Hz) and damping ratio of each contact point
+    /// ([`crate::contact::Softness`]). 0 Hz (the default) is the paper's hard projection.
+    pub contact_hertz: f32,
+    pub contact_damping_ratio: f32,
     /// Islands of bodies that stay still fall asleep and leave the step ([`crate::sleep`]).
     /// Off (the default) in the paper's scenes, whose residuals are measured every frame.
     pub sleep: bool,
@@ -142,6 +146,8 @@ impl Default for Settings {
             contact_margin: 0.02,
             contact_push_speed: DEFAULT_CONTACT_PUSH_SPEED,
             contact_warm_start: 0.0,
+            contact_hertz: 0.0,
+            contact_damping_ratio: 1.0,
             sleep: false,
             linear_damping: 0.0,
             angular_damping: 0.0,
@@ -285,7 +291,11 @@ impl Solver {
                 .iter_mut()
                 .for_each(|r| r.begin_substep(bodies_now));
         }
-        contacts.begin_substep(bodies, h, settings.contact_push_speed);
+        let softness = crate::contact::Softness {
+            hertz: settings.contact_hertz,
+            damping_ratio: settings.contact_damping_ratio,
+        };
+        contacts.begin_substep(bodies, h, settings.contact_push_speed, softness);
         // impacts faster than two frames of free fall bounce (step 3.5), and are not warm-started
         let impact_speed = 2.0 * settings.gravity.length() * settings.dt;
         if settings.contact_warm_start > 0.0 {
