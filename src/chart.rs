@@ -25,7 +25,7 @@ pub const PALETTE: [[u8; 3]; 8] = [
     [0xF0, 0xE4, 0x42],
 ];
 /// Longer legend labels are cut so that the legend stays inside the image.
-const LEGEND_CHARS: usize = 34;
+const LEGEND_CHARS: usize = 36;
 const MIDDLE: &str = r#"text-anchor="middle""#;
 
 /// One line of the chart: a label and its points (x, y), drawn in the given order.

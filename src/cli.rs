@@ -443,13 +443,13 @@ fn sweep(
     }
     progress.finish();
     println!(
-        "  {:<30} {:>8} {:>4} {:>5} {:>10} {:>12} {:>12} {:>10}",
+        "  {:<36} {:>8} {:>4} {:>5} {:>10} {:>12} {:>12} {:>10}",
         "method", "dt", "sub", "iter", "step us", "mean disl cm", "max disl cm", "mean rad"
     );
     for r in &rows {
         match &r.failed {
             None => println!(
-                "  {:<30} {:>8.4} {:>4} {:>5} {:>10.1} {:>12.4} {:>12.4} {:>10.5}",
+                "  {:<36} {:>8.4} {:>4} {:>5} {:>10.1} {:>12.4} {:>12.4} {:>10.5}",
                 r.method,
                 r.dt,
                 r.substeps,
@@ -460,7 +460,7 @@ fn sweep(
                 r.mean_angular_rad
             ),
             Some(e) => println!(
-                "  {:<30} {:>8.4} {:>4} {:>5} failed: {e}",
+                "  {:<36} {:>8.4} {:>4} {:>5} failed: {e}",
                 r.method, r.dt, r.substeps, r.iterations
             ),
         }
