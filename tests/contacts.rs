@@ -743,3 +743,55 @@ fn a_soft_contact_is_a_spring_of_its_frequency() {
     );
     assert!(deepest < 1.02 * sag, "overshot to {deepest} m, sag {sag} m");
 }
+
+/// 27 boxes started in a 3x3x3 block, each overlapping its neighbours by half: the fastest box
+/// over 10 s and the time from which every box stays under 0.05 m/s, with the push-out capped
+/// at `push_speed` (m/s).
+fn overlapping_block(push_speed: f32) -> (f32, Option<f32>) {
+    let mut world = World::new(Settings {
+        contact_push_speed: push_speed,
+        ..settings()
+    });
+    plane(&mut world, Quat::IDENTITY);
+    let half = Vec3::splat(0.25);
+    let mut boxes = Vec::new();
+    for i in 0..27 {
+        let cell = Vec3::new((i % 3) as f32, (i / 3 % 3) as f32, (i / 9) as f32);
+        let body = Body::new(
+            format!("box{i}"),
+            BodyKind::Dynamic,
+            Shape::Cuboid { half_extents: half },
+            1.0,
+        );
+        let start = Vec3::new(0.0, 0.25, 0.0) + 0.25 * cell;
+        boxes.push(world.add_body(body.with_pose(start, Quat::IDENTITY)));
+    }
+    let (mut peak, mut rest_since) = (0.0f32, None);
+    for frame in 0..600 {
+        world.step().unwrap();
+        let fastest = (boxes.iter())
+            .map(|&id| world.body(id).linear_velocity.length())
+            .fold(0.0, f32::max);
+        peak = peak.max(fastest);
+        rest_since = match fastest < 0.05 {
+            true => rest_since.or(Some(frame as f32 / 60.0)),
+            false => None,
+        };
+    }
+    (peak, rest_since)
+}
+
+/// Issue 10: boxes started overlapping by half separate no faster than 3 m/s and are at rest
+/// within 3 s. A push-out cap of 1 m/s does it (measured: peak 1.7 m/s, at rest from 0.95 s).
+/// Pushes compound up the block (a top box rides on boxes pushed out themselves), so the cap
+/// must sit below the wanted peak: 1.5 and 3 m/s caps peak at 4.1 and 6.1 m/s. The paper's
+/// projection, uncapped, throws a box out at 22 m/s and rests only after 5.9 s.
+#[test]
+fn an_overlapping_block_of_boxes_separates_gently_and_comes_to_rest() {
+    let (peak, rest) = overlapping_block(1.0);
+    assert!(peak <= 3.0, "peak {peak} m/s");
+    let rest = rest.expect("never at rest");
+    assert!(rest <= 3.0, "at rest only from {rest} s");
+    let (uncapped, _) = overlapping_block(f32::INFINITY);
+    assert!(uncapped > 3.0 * peak, "uncapped peak {uncapped} m/s");
+}
