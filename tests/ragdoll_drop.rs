@@ -110,7 +110,10 @@ fn thirty_ragdolls_land_and_settle_and_the_rod_spine_leaves_less_residual() {
     for seed in [1, 2, 3] {
         let [chain3, rod] = [SpineKind::Chain3, SpineKind::Rod].map(|spine| drop(spine, seed).1);
         for (k, (spine, d)) in [("chain3", &chain3), ("rod", &rod)].into_iter().enumerate() {
-            println!("seed {seed}, {spine}: mean total dislocation {:.1} cm", mean(d));
+            println!(
+                "seed {seed}, {spine}: mean total dislocation {:.1} cm",
+                mean(d)
+            );
             means[k] += mean(d);
         }
         count(&chain3, &rod);

@@ -121,7 +121,8 @@ impl BroadPhase {
         let mut movable = 0;
         for proxy in &mut self.proxies {
             let body = &bodies[proxy.body as usize];
-            let grow = margin + dt * body.linear_velocity.length();
+            // grown by how far the fastest surface point may travel this frame, spin included
+            let grow = margin + dt * body.max_point_speed();
             let half = body.shape.world_half_extents(body.orientation) + Vec3::splat(grow);
             proxy.min = (body.position - half).to_array();
             proxy.max = (body.position + half).to_array();

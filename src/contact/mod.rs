@@ -497,8 +497,14 @@ impl PairContext<'_> {
             {
                 continue;
             }
-            let reach =
-                self.margin + self.dt * (body_a.linear_velocity - body_b.linear_velocity).length();
+            // how far the two surfaces may close this frame: the relative speed of the centres
+            // plus what spin adds at the farthest surface point (a limb spinning at 20 rad/s
+            // moves its tip 5 cm a frame further than its centre)
+            let spin = |b: &Body| b.max_point_speed() - b.linear_velocity.length();
+            let closing = (body_a.linear_velocity - body_b.linear_velocity).length()
+                + spin(body_a)
+                + spin(body_b);
+            let reach = self.margin + self.dt * closing;
             out.features.clear();
             if !narrowphase::collide(body_a, body_b, reach, &mut out.features) {
                 continue;
