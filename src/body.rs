@@ -238,6 +238,17 @@ impl Body {
         self.linear_velocity.length() + spin
     }
 
+    /// A cheap bound on how fast spin moves a surface point (m/s): `|w|` times the shape's
+    /// bounding radius, 0 for a body that does not turn (for speculative contact reach).
+    #[inline]
+    pub fn spin_speed_bound(&self) -> f32 {
+        let w = self.angular_velocity.length_squared();
+        match w > 0.0 {
+            true => w.sqrt() * self.shape.bounding_radius(),
+            false => 0.0,
+        }
+    }
+
     /// World position of a body-space point at the current pose.
     pub fn world_point(&self, local: Vec3) -> Vec3 {
         self.position + self.orientation * local

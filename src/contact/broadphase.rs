@@ -122,7 +122,7 @@ impl BroadPhase {
         for proxy in &mut self.proxies {
             let body = &bodies[proxy.body as usize];
             // grown by how far the fastest surface point may travel this frame, spin included
-            let grow = margin + dt * body.max_point_speed();
+            let grow = margin + dt * (body.linear_velocity.length() + body.spin_speed_bound());
             let half = body.shape.world_half_extents(body.orientation) + Vec3::splat(grow);
             proxy.min = (body.position - half).to_array();
             proxy.max = (body.position + half).to_array();

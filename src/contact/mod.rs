@@ -500,10 +500,9 @@ impl PairContext<'_> {
             // how far the two surfaces may close this frame: the relative speed of the centres
             // plus what spin adds at the farthest surface point (a limb spinning at 20 rad/s
             // moves its tip 5 cm a frame further than its centre)
-            let spin = |b: &Body| b.max_point_speed() - b.linear_velocity.length();
             let closing = (body_a.linear_velocity - body_b.linear_velocity).length()
-                + spin(body_a)
-                + spin(body_b);
+                + body_a.spin_speed_bound()
+                + body_b.spin_speed_bound();
             let reach = self.margin + self.dt * closing;
             out.features.clear();
             if !narrowphase::collide(body_a, body_b, reach, &mut out.features) {
