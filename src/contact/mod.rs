@@ -1,8 +1,8 @@
 //! Contacts, solved in the same iteration loop as the joints (position level).
 //!
 //! Detection is speculative: pairs are found at the current poses (step 2 of the solver) within
-//! a margin grown by how far the bodies may travel this step, so fast bodies meet thin ones
-//! before they could pass. Each contact point keeps its world normal `n` (from a to b) and its
+//! a margin grown by how far the bodies' surfaces may travel this step (spin included), so fast
+//! bodies meet thin ones before they could pass. Each contact point keeps its world normal `n` (from a to b) and its
 //! two surface points in body space for the step; each iteration measures the separation
 //! `C = (p_b - p_a) . n` at the preview poses and, when negative, pushes the points apart
 //! along `n` (non-penetration, `C >= 0`). The pushes act at lever arms fixed when the point is
@@ -19,8 +19,12 @@
 //! left by a finite number of iterations are pulled back instead of adding up to creep (the
 //! role of Box2D's anchors and warm starting); a sliding contact starts fresh anchors each
 //! step. A pair keeps at most four points ([`manifold::reduce`]). Friction coefficients
-//! //! combine as the geometric mean. Restitution is a velocity pass after the positions (see
+//! combine as the geometric mean. Restitution is a velocity pass after the positions (see
 //! [`Contacts::velocity_pass`]); a pair uses the larger coefficient.
+//!
+//! Beside the paper's hard projection, two options: warm starting ([`Contacts::warm_start`],
+//! a fraction of each resting point's last impulse applied first) and soft contacts
+//! ([`Softness`], each point a damped spring in XPBD's compliance form).
 //!
 //! Filtering: bodies joined by a joint (unless `collide_connected`) or a rod never collide, and
 //! a pair collides only if each body's group bits meet the other's mask bits.
