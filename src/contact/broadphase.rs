@@ -9,7 +9,7 @@
 //! `(cell key, body)` entry; sorting the entries groups each cell's bodies, and each group is
 //! swept along x (sorted by lower x, each box tested against those starting before it ends).
 //! A pair is reported only from the cell that holds the lower corner of the two boxes'
-//! overlap, so it is reported once. Boxes covering more than [`LARGE_CELLS`] cells are kept
+//! overlap, so it is reported once. Boxes covering more than `LARGE_CELLS` (1024) cells are kept
 //! apart and tested against every other box, which costs `large x n`. Half-spaces are
 //! unbounded: each is paired with the dynamic bodies whose box reaches below its plane.
 //!
