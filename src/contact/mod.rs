@@ -301,17 +301,20 @@ impl Contacts {
     pub fn begin_substep(&mut self, bodies: &[Body], h: f32, push_speed: f32, soft: Softness) {
         let (compliance, damping) = soft.substep_constants(h);
         let start = |point: &mut ContactPoint| {
-            let (a, b) = (&bodies[point.body_a.index()], &bodies[point.body_b.index()]);
-            point.allowed_penetration = if push_speed.is_finite() {
-                let depth = -point.separation_at(a, b);
-                (depth - push_speed * h).max(0.0)
-            } else {
-                0.0
+            // the separation at the substep's start, read only when the push cap or damping
+            // needs it (the paper's contacts use neither)
+            let separation = (push_speed.is_finite() || damping > 0.0).then(|| {
+                let (a, b) = (&bodies[point.body_a.index()], &bodies[point.body_b.index()]);
+                point.separation_at(a, b)
+            });
+            point.allowed_penetration = match (separation, push_speed.is_finite()) {
+                (Some(s), true) => (-s - push_speed * h).max(0.0),
+                _ => 0.0,
             };
             (point.compliance, point.damping) = (compliance, damping);
-            point.start_separation = match damping > 0.0 {
-                true => point.separation_at(a, b) + point.allowed_penetration,
-                false => 0.0,
+            point.start_separation = match (separation, damping > 0.0) {
+                (Some(s), true) => s + point.allowed_penetration,
+                _ => 0.0,
             };
             point.warm_impulse = point.normal_impulse;
             point.normal_impulse = 0.0;
