@@ -659,6 +659,7 @@ pub fn record_scene(scene: &Scene, rec: rerun::RecordingStream) -> anyhow::Resul
             step_seconds: 0.0,
             awake_bodies: Vec::new(),
             profile: Default::default(),
+            restless: Vec::new(),
         });
     }
     let mut lab = scene.build()?;
@@ -956,4 +957,25 @@ fn print_sleep(scene: &Scene, report: &RunReport) {
             f + 1
         ))
     );
+    print_restless(report);
+}
+
+/// The bodies that keep their islands awake at the end, fastest first (at most five named).
+fn print_restless(report: &RunReport) {
+    const NAMED: usize = 5;
+    let Some((name, fastest)) = report.restless.first() else {
+        return;
+    };
+    println!(
+        "  still moving (fastest surface point >= {} m/s): {} bodies; fastest {name} {:.3} m/s",
+        crate::sleep::SLEEP_SPEED,
+        report.restless.len(),
+        fastest.point_speed
+    );
+    for (name, r) in report.restless.iter().take(NAMED) {
+        println!(
+            "    {name}: point {:.3} m/s, centre {:.3} m/s, spin {:.2} rad/s about its axis and {:.2} across",
+            r.point_speed, r.centre_speed, r.axial_spin, r.cross_spin
+        );
+    }
 }

@@ -131,6 +131,9 @@ pub struct RunReport {
     pub awake_bodies: Vec<u32>,
     /// The steps' phases, summed over the run (see [`crate::solver::Profile`]).
     pub profile: crate::solver::Profile,
+    /// After the last frame, the awake bodies too fast to fall asleep, fastest first, with
+    /// their names ([`crate::sleep::restless_bodies`]).
+    pub restless: Vec<(String, crate::sleep::Restless)>,
 }
 
 impl RunReport {
@@ -192,5 +195,8 @@ pub fn run(lab: &mut Lab, frames: u32, observer: &mut dyn Observer) -> anyhow::R
         step_seconds,
         awake_bodies,
         profile,
+        restless: (crate::sleep::restless_bodies(&lab.world.bodies).into_iter())
+            .map(|r| (lab.world.body(r.body).name.clone(), r))
+            .collect(),
     })
 }

@@ -20,10 +20,11 @@
 //! awake dynamic body or a moving kinematic body is in it. What remains per sleeping body is its
 //! broad-phase entry and these per-frame checks.
 
-use crate::body::Body;
+use crate::body::{Body, BodyId};
 use crate::constraint::Constraint;
 use crate::contact::Contacts;
 use crate::math::Vec3;
+use crate::shape::Shape;
 
 /// A body is still while its fastest surface point moves slower than this (m/s; Box2D v3's
 /// default sleep threshold).
@@ -31,6 +32,45 @@ pub const SLEEP_SPEED: f32 = 0.05;
 
 /// An island falls asleep once every body in it has been still this long (s).
 pub const TIME_TO_SLEEP: f32 = 0.5;
+
+/// An awake dynamic body whose fastest surface point is at or over [`SLEEP_SPEED`]: what keeps
+/// its island awake. The speeds split the point speed into its parts, so a user can tell a
+/// sliding body (centre) from one turning about its long axis (a capsule's axial spin barely
+/// moves its surface, while the same turn across the axis swings its ends).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Restless {
+    pub body: BodyId,
+    /// Fastest surface point (m/s), as the sleep timers read it.
+    pub point_speed: f32,
+    /// Speed of the centre of mass (m/s).
+    pub centre_speed: f32,
+    /// Angular speed (rad/s) about a capsule's own axis (zero for other shapes), and across it.
+    pub axial_spin: f32,
+    pub cross_spin: f32,
+}
+
+/// The awake dynamic bodies too fast to fall asleep, fastest first.
+pub fn restless_bodies(bodies: &[Body]) -> Vec<Restless> {
+    let mut restless: Vec<Restless> = (bodies.iter().enumerate())
+        .filter(|(_, b)| b.is_awake_dynamic() && b.max_point_speed() >= SLEEP_SPEED)
+        .map(|(i, b)| {
+            let w = b.angular_velocity;
+            let axial = match b.shape {
+                Shape::Capsule { axis, .. } => (b.orientation * axis.unit()).dot(w),
+                _ => 0.0,
+            };
+            Restless {
+                body: BodyId(i as u32),
+                point_speed: b.max_point_speed(),
+                centre_speed: b.linear_velocity.length(),
+                axial_spin: axial.abs(),
+                cross_spin: (w.length_squared() - axial * axial).max(0.0).sqrt(),
+            }
+        })
+        .collect();
+    restless.sort_by(|a, b| b.point_speed.total_cmp(&a.point_speed));
+    restless
+}
 
 /// Reused storage for the once-a-frame sleep pass.
 #[derive(Clone, Debug, Default)]

@@ -861,3 +861,50 @@ fn a_ten_wide_box_pyramid_stands_within_five_millimetres() {
         );
     }
 }
+
+/// The run summary names what keeps an island awake: the bodies whose fastest surface point is
+/// over the sleep threshold, fastest first, with the spin about a capsule's own axis apart from
+/// the spin across it (a limb spinning about its axis at 10 rad/s moves its surface at 10 r,
+/// one tumbling end over end at 1 rad/s moves its ends at 1 (half height + r)).
+#[test]
+fn the_bodies_that_keep_an_island_awake_are_named_with_their_spin_split() {
+    let mut world = World::new(Settings {
+        gravity: Vec3::ZERO,
+        ..settings()
+    });
+    let capsule = |name: &str, x: f32| {
+        let shape = Shape::Capsule {
+            half_height: 0.2,
+            radius: 0.05,
+            axis: Axis::Y,
+        };
+        Body::new(name, BodyKind::Dynamic, shape, 2.0)
+            .with_pose(Vec3::new(x, 1.0, 0.0), Quat::IDENTITY)
+    };
+    let mut spinner = capsule("spinner", 0.0);
+    spinner.angular_velocity = Vec3::new(0.0, 10.0, 0.0);
+    let mut tumbler = capsule("tumbler", 2.0);
+    tumbler.angular_velocity = Vec3::new(1.0, 0.0, 0.0);
+    let still = capsule("still", 4.0);
+    for body in [spinner, tumbler, still] {
+        world.add_body(body);
+    }
+    world.step().unwrap();
+    let restless = rodlab::sleep::restless_bodies(&world.bodies);
+    let names: Vec<&str> = restless
+        .iter()
+        .map(|r| world.body(r.body).name.as_str())
+        .collect();
+    assert_eq!(names, ["spinner", "tumbler"], "{restless:?}");
+    let (spin, tumble) = (&restless[0], &restless[1]);
+    assert!(
+        (spin.axial_spin - 10.0).abs() < 1e-3 && spin.cross_spin < 1e-3,
+        "{spin:?}"
+    );
+    assert!((spin.point_speed - 10.0 * 0.05).abs() < 1e-4, "{spin:?}");
+    assert!(
+        tumble.axial_spin < 1e-3 && (tumble.cross_spin - 1.0).abs() < 1e-3,
+        "{tumble:?}"
+    );
+    assert!((tumble.point_speed - 1.0 * 0.25).abs() < 1e-3, "{tumble:?}");
+}
