@@ -226,16 +226,29 @@ impl Body {
             Shape::Capsule {
                 half_height,
                 radius,
-                axis,
+                ..
             } => {
-                let along = (self.orientation * axis.unit()).dot(w);
-                let across = (w.length_squared() - along * along).max(0.0).sqrt();
-                across * (half_height + radius) + along.abs() * radius
+                let (along, across) = self.spin_about_and_across_axis();
+                across * (half_height + radius) + along * radius
             }
             Shape::Cuboid { half_extents } => w.length() * half_extents.length(),
             Shape::HalfSpace => 0.0,
         };
         self.linear_velocity.length() + spin
+    }
+
+    /// Angular speed (rad/s) about a capsule's own axis and across it; for other shapes all of
+    /// it counts as across.
+    pub fn spin_about_and_across_axis(&self) -> (f32, f32) {
+        let w = self.angular_velocity;
+        let along = match self.shape {
+            Shape::Capsule { axis, .. } => (self.orientation * axis.unit()).dot(w),
+            _ => 0.0,
+        };
+        (
+            along.abs(),
+            (w.length_squared() - along * along).max(0.0).sqrt(),
+        )
     }
 
     /// A cheap bound on how fast spin moves a surface point (m/s): `|w|` times the shape's

@@ -24,7 +24,6 @@ use crate::body::{Body, BodyId};
 use crate::constraint::Constraint;
 use crate::contact::Contacts;
 use crate::math::Vec3;
-use crate::shape::Shape;
 
 /// A body is still while its fastest surface point moves slower than this (m/s; Box2D v3's
 /// default sleep threshold).
@@ -54,17 +53,13 @@ pub fn restless_bodies(bodies: &[Body]) -> Vec<Restless> {
     let mut restless: Vec<Restless> = (bodies.iter().enumerate())
         .filter(|(_, b)| b.is_awake_dynamic() && b.max_point_speed() >= SLEEP_SPEED)
         .map(|(i, b)| {
-            let w = b.angular_velocity;
-            let axial = match b.shape {
-                Shape::Capsule { axis, .. } => (b.orientation * axis.unit()).dot(w),
-                _ => 0.0,
-            };
+            let (axial_spin, cross_spin) = b.spin_about_and_across_axis();
             Restless {
                 body: BodyId(i as u32),
                 point_speed: b.max_point_speed(),
                 centre_speed: b.linear_velocity.length(),
-                axial_spin: axial.abs(),
-                cross_spin: (w.length_squared() - axial * axial).max(0.0).sqrt(),
+                axial_spin,
+                cross_spin,
             }
         })
         .collect();
