@@ -11,18 +11,21 @@ use crate::math::{Quat, Vec3};
 use crate::solver_body::SharedBodies;
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Sub};
 
+/// The widest lane type's width (`wide::f32x8`); arrays of per-lane data are this long.
+pub const MAX_LANES: usize = 8;
+
 /// Groups of four floats of `W` records turned into four lanes, and back: the transpose that
 /// gathers bodies into lanes (one SSE shuffle network for W = 4).
 pub trait Transpose4: Sized {
     /// `out[j]` lane i = `rows[i][j]`, for the first `W` rows.
-    fn transpose4(rows: [&[f32; 4]; 8]) -> [Self; 4];
+    fn transpose4(rows: [&[f32; 4]; MAX_LANES]) -> [Self; 4];
     /// `rows[i][j]` = lane i of `cols[j]`.
-    fn untranspose4(cols: [Self; 4]) -> [[f32; 4]; 8];
+    fn untranspose4(cols: [Self; 4]) -> [[f32; 4]; MAX_LANES];
 }
 
 impl Transpose4 for wide::f32x4 {
     #[inline(always)]
-    fn transpose4(rows: [&[f32; 4]; 8]) -> [Self; 4] {
+    fn transpose4(rows: [&[f32; 4]; MAX_LANES]) -> [Self; 4] {
         wide::f32x4::transpose([
             wide::f32x4::new(*rows[0]),
             wide::f32x4::new(*rows[1]),
@@ -31,9 +34,9 @@ impl Transpose4 for wide::f32x4 {
         ])
     }
     #[inline(always)]
-    fn untranspose4(cols: [Self; 4]) -> [[f32; 4]; 8] {
+    fn untranspose4(cols: [Self; 4]) -> [[f32; 4]; MAX_LANES] {
         let t = wide::f32x4::transpose(cols);
-        let mut out = [[0.0; 4]; 8];
+        let mut out = [[0.0; 4]; MAX_LANES];
         for (o, v) in out.iter_mut().zip(t) {
             *o = v.to_array();
         }
@@ -43,19 +46,30 @@ impl Transpose4 for wide::f32x4 {
 
 impl Transpose4 for wide::f32x8 {
     #[inline(always)]
-    fn transpose4(rows: [&[f32; 4]; 8]) -> [Self; 4] {
+    fn transpose4(rows: [&[f32; 4]; MAX_LANES]) -> [Self; 4] {
         let low: [wide::f32x4; 4] = Transpose4::transpose4(rows);
         let high: [wide::f32x4; 4] =
-            Transpose4::transpose4(std::array::from_fn(|i| rows[(i + 4) % 8]));
+            Transpose4::transpose4(std::array::from_fn(|i| rows[(i + 4) % MAX_LANES]));
         std::array::from_fn(|j| {
             let (l, h) = (low[j].to_array(), high[j].to_array());
             wide::f32x8::new([l[0], l[1], l[2], l[3], h[0], h[1], h[2], h[3]])
         })
     }
     #[inline(always)]
-    fn untranspose4(cols: [Self; 4]) -> [[f32; 4]; 8] {
+    fn untranspose4(cols: [Self; 4]) -> [[f32; 4]; MAX_LANES] {
+        // each half of the eight lanes through the 4-wide shuffle network
         let cols = cols.map(|c| c.to_array());
-        std::array::from_fn(|i| std::array::from_fn(|j| cols[j][i]))
+        let half = |h: usize| -> [wide::f32x4; 4] {
+            std::array::from_fn(|j| {
+                let c = &cols[j];
+                wide::f32x4::new([c[4 * h], c[4 * h + 1], c[4 * h + 2], c[4 * h + 3]])
+            })
+        };
+        let (low, high) = (
+            <wide::f32x4 as Transpose4>::untranspose4(half(0)),
+            <wide::f32x4 as Transpose4>::untranspose4(half(1)),
+        );
+        std::array::from_fn(|i| if i < 4 { low[i] } else { high[i - 4] })
     }
 }
 
@@ -198,7 +212,7 @@ impl<L: Lane> V3<L> {
     }
     #[inline(always)]
     pub fn from_fn(mut f: impl FnMut(usize) -> Vec3) -> Self {
-        let mut v = [Vec3::ZERO; 8];
+        let mut v = [Vec3::ZERO; MAX_LANES];
         for (i, x) in v.iter_mut().take(L::W).enumerate() {
             *x = f(i);
         }
@@ -240,13 +254,15 @@ impl<L: Lane> V3<L> {
             z: self.z * s,
         }
     }
-    /// Per lane: `self / |self|`, or `fallback` where `|self|` is below `eps`; with the length.
+    /// Per lane: `self / |self|`, or `fallback()` where `|self|` is not above `eps`; with the
+    /// length. The fallback is always computed: skipping it when no lane needs it added a branch
+    /// that cost the rod kernel about 20% (the compiler no longer overlaps the parts around it).
     #[inline(always)]
-    pub fn normalize_or(self, fallback: Self, eps: f32) -> (Self, L) {
+    pub fn normalize_or_else(self, eps: f32, fallback: impl FnOnce() -> Self) -> (Self, L) {
         let length = self.length();
         let ok = length.gt(L::splat(eps));
-        let inv = ok.select(L::splat(1.0) / length.max(L::splat(eps)), L::zero());
-        (V3::select(ok, self.scale(inv), fallback), length)
+        let unit = self.scale(L::splat(1.0) / length.max(L::splat(eps)));
+        (V3::select(ok, unit, fallback()), length)
     }
     #[inline(always)]
     pub fn select(mask: L, t: Self, f: Self) -> Self {
@@ -320,7 +336,7 @@ pub struct Q<L> {
 impl<L: Lane> Q<L> {
     #[inline(always)]
     pub fn from_fn(mut f: impl FnMut(usize) -> Quat) -> Self {
-        let mut v = [Quat::IDENTITY; 8];
+        let mut v = [Quat::IDENTITY; MAX_LANES];
         for (i, x) in v.iter_mut().take(L::W).enumerate() {
             *x = f(i);
         }
@@ -483,7 +499,8 @@ impl<L: Lane> BodyLanes<L> {
     #[inline(always)]
     pub unsafe fn gather(bodies: SharedBodies, index: &[u32]) -> Self {
         // straight from the bodies' memory: no copies, one load per group of four floats
-        let quads: [&[[f32; 4]; 6]; 8] = std::array::from_fn(|i| bodies.quads(index[i % L::W]));
+        let quads: [&[[f32; 4]; 6]; MAX_LANES] =
+            std::array::from_fn(|i| bodies.quads(index[i % L::W]));
         // group k of every body, transposed: four fields in lanes
         let group = |k: usize| L::transpose4(std::array::from_fn(|i| &quads[i][k]));
         let [qx, qy, qz, qw] = group(0);

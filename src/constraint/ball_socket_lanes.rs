@@ -20,17 +20,20 @@ use crate::math::Quat;
 use crate::solver_body::SharedBodies;
 use std::f32::consts::{PI, TAU};
 
-/// Solves `rows` (exactly [`crate::solver::SIMD_WIDTH`] = 4 rows of one colour, which share no
-/// movable body) in `wide::f32x4` lanes.
+/// Solves `rows` (4 or 8 rows of one colour, which share no movable body, as
+/// [`crate::solver::SIMD_WIDTH`] gives them) in `wide::f32x4` or `wide::f32x8` lanes.
 pub fn solve_batch(rows: &mut [JointRow], bodies: SharedBodies) {
-    solve_lanes::<wide::f32x4>(rows, bodies)
+    match rows.len() {
+        8 => solve_lanes::<wide::f32x8>(rows, bodies),
+        _ => solve_lanes::<wide::f32x4>(rows, bodies),
+    }
 }
 
 /// Solves `L::W` rows sharing no movable body at once: gather, spring, limits, point, scatter.
 pub fn solve_lanes<L: Lane>(rows: &mut [JointRow], bodies: SharedBodies) {
     assert_eq!(rows.len(), L::W, "a batch is exactly one row per lane");
-    let mut index_a = [0u32; 8];
-    let mut index_b = [0u32; 8];
+    let mut index_a = [0u32; crate::lanes::MAX_LANES];
+    let mut index_b = [0u32; crate::lanes::MAX_LANES];
     for (i, row) in rows.iter().enumerate() {
         debug_assert_ne!(
             row.body_a, row.body_b,
@@ -100,7 +103,7 @@ fn solve_bodies<L: Lane>(rows: &[JointRow], a: &mut BodyLanes<L>, b: &mut BodyLa
         // batch with none over (most of the time) skips the part, bit for bit the same.
         if over.any() {
             // glam's try_normalize fails where 1 / |v| is not finite.
-            let (axis, _) = cross.normalize_or(ax.any_orthonormal(), 1.0 / f32::MAX);
+            let (axis, _) = cross.normalize_or_else(1.0 / f32::MAX, || ax.any_orthonormal());
             let amount = over.select(-(swing - swing_max), L::zero());
             relative_rotation(a, b, movable_a, movable_b, axis.scale(amount));
             fa = a.orientation.mul(frame_a);
@@ -164,16 +167,6 @@ fn not<L: Lane>(mask: L) -> L {
     mask.select(L::zero(), L::zero().lt(L::splat(1.0)))
 }
 
-/// `v / s` per lane (a division, as glam's `Vec3 / f32`).
-#[inline(always)]
-fn div<L: Lane>(v: V3<L>, s: L) -> V3<L> {
-    V3 {
-        x: v.x / s,
-        y: v.y / s,
-        z: v.z / s,
-    }
-}
-
 /// Wraps an angle in [-2 pi, 2 pi] to [-pi, pi], as [`crate::math::wrap_angle`] does there (every
 /// angle wrapped here is twice an `atan2` or the difference of two wrapped angles).
 #[inline(always)]
@@ -224,13 +217,14 @@ fn relative_rotation<L: Lane>(
     movable_b: L,
     rotation_b: V3<L>,
 ) {
-    let angle = rotation_b.length();
-    let big = not(angle.lt(L::splat(1e-9)));
-    let n = div(rotation_b, big.select(angle, L::splat(1.0)));
-    let w = a.angular_inverse_mass(n) + b.angular_inverse_mass(n);
+    // With n = v / |v| the impulse n |v| / w(n) is v |v|^2 / w(v) (w is quadratic): no square
+    // root, one division; `|v|^2 < 1e-18` is the scalar `|v| < 1e-9`.
+    let angle_squared = rotation_b.length_squared();
+    let big = not(angle_squared.lt(L::splat(1e-18)));
+    let w = a.angular_inverse_mass(rotation_b) + b.angular_inverse_mass(rotation_b);
     let positive = w.gt(L::zero());
     let active = big & positive;
-    let l = n.scale(angle / positive.select(w, L::splat(1.0)));
+    let l = rotation_b.scale(angle_squared / positive.select(w, L::splat(1.0)));
     apply_angular(a, -l, active & movable_a);
     apply_angular(b, l, active & movable_b);
 }

@@ -15,17 +15,20 @@ use super::ContactPoint;
 use crate::lanes::{BodyLanes, Lane, V3};
 use crate::solver_body::SharedBodies;
 
-/// Solves `rows` (one colour's points, sharing no movable body) at the lane width of
-/// [`crate::solver::SIMD_WIDTH`].
+/// Solves `rows` (4 or 8 of one colour's points, sharing no movable body, as
+/// [`crate::solver::SIMD_WIDTH`] gives them) in `wide::f32x4` or `wide::f32x8` lanes.
 pub fn solve_batch(rows: &mut [ContactPoint], bodies: SharedBodies) {
-    solve_lanes::<wide::f32x4>(rows, bodies)
+    match rows.len() {
+        8 => solve_lanes::<wide::f32x8>(rows, bodies),
+        _ => solve_lanes::<wide::f32x4>(rows, bodies),
+    }
 }
 
 /// Solves `L::W` points at once.
 pub fn solve_lanes<L: Lane>(rows: &mut [ContactPoint], bodies: SharedBodies) {
-    debug_assert_eq!(rows.len(), L::W);
-    let mut index_a = [0u32; 8];
-    let mut index_b = [0u32; 8];
+    assert_eq!(rows.len(), L::W, "a batch is exactly one point per lane");
+    let mut index_a = [0u32; crate::lanes::MAX_LANES];
+    let mut index_b = [0u32; crate::lanes::MAX_LANES];
     for (i, p) in rows.iter().enumerate() {
         index_a[i] = p.body_a.0;
         index_b[i] = p.body_b.0;

@@ -371,8 +371,10 @@ impl Solver {
 /// A kernel solving W rows at once: `rows.len()` is the lane width.
 pub type BatchKernel<T> = fn(&mut [T], SharedBodies);
 
-/// Lane width of [`SolverKind::Simd`] (chosen by measurement: see `benches/solver.rs`).
-pub const SIMD_WIDTH: usize = 4;
+/// Lane width of [`SolverKind::Simd`] (chosen by measurement: see `benches/solver.rs`): 8 where
+/// the build has AVX (one 256-bit register per `wide::f32x8`), else 4; without AVX an `f32x8` is
+/// two 4-wide halves and measured no faster than 4 lanes.
+pub const SIMD_WIDTH: usize = if cfg!(target_feature = "avx") { 8 } else { 4 };
 
 /// Solves every colour of one kind's rows once. Rows of a colour are independent: the scalar
 /// kernel takes them one by one, the SIMD kernel [`SIMD_WIDTH`] at a time (a remainder one by
