@@ -82,6 +82,13 @@ pub fn closest_points_on_segments(p0: Vec3, p1: Vec3, q0: Vec3, q1: Vec3) -> (Ve
 /// Sphere/capsule against sphere/capsule: one point at the closest features, two when the
 /// segments are parallel and overlap (so a capsule lying on another does not rock).
 pub fn capsule_capsule(a: &Body, b: &Body, margin: f32, out: &mut Vec<Feature>) {
+    // Bounding spheres first: every surface point lies within `half height + radius` of the
+    // centre, so centres farther apart than both plus the reach have no feature in reach. Most
+    // of a pile's candidate pairs (boxes overlapping, limbs apart) end here.
+    let reach = a.shape.bounding_radius() + b.shape.bounding_radius() + margin;
+    if (b.position - a.position).length_squared() > reach * reach {
+        return;
+    }
     let (Some((a0, a1, ra)), Some((b0, b1, rb))) = (segment(a), segment(b)) else {
         return;
     };
