@@ -844,7 +844,7 @@ fn a_spinning_stick_does_not_pass_through_a_thin_wall() {
 
 /// Issue 10's pyramid: ten wide (55 boxes), every box within 5 mm of its start after 10 s. With
 /// a quarter warm start it holds at 4 substeps of 5 iterations (measured 1.3 mm) and at 2 of 10
-/// (2.6 mm), against 49 and 122 mm without warm starting. At the paper's one step of 20
+/// (2.8 mm), against 49 and 122 mm without warm starting. At the paper's one step of 20
 /// iterations it is at the bound and depends on the order contacts are solved in: 5.8 mm
 /// with the pairs sorted by body (the broad phase's order since it keeps pairs), 2.2 mm in
 /// the earlier cell order, 8.6 mm in reverse body order; 4.7 mm with half the warm start.
