@@ -16,7 +16,9 @@ const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/ragdoll_drop.to
 static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
 fn one_at_a_time() -> std::sync::MutexGuard<'static, ()> {
-    ONE_AT_A_TIME.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
+    ONE_AT_A_TIME
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner())
 }
 
 /// Runs the drop with one spine and layout seed; returns the final lab, the total dislocation
@@ -84,7 +86,7 @@ fn thirty_ragdolls_land_and_settle_and_the_rod_spine_leaves_less_residual() {
         // Nearly at rest: a few limbs caught between stair boxes and other ragdolls still
         // twitch about their long axis. These figures move with the order contacts are solved
         // in (the broad phase's pair order), so one layout is one sample; measured over the
-        // layouts 7 / 1 / 2 / 3 (`examples`-style probe, this order, pairs sorted by body):
+        // layouts 7 / 1 / 2 / 3 (this file's `drop(spine, seed)`, pairs sorted by body):
         // fastest centre 0.14 / 0.17 / 0.13 / 0.11 m/s chain3 and 0.30 / 0.11 / 0.09 / 0.14
         // rod; fastest point 0.56 / 0.52 / 0.28 / 0.28 and 1.17 / 0.49 / 0.28 / 0.93 m/s;
         // bodies at rest 98.7 / 99.0 / 98.7 / 99.0% and 94.5 / 97.3 / 99.4 / 97.6%. (In the

@@ -103,7 +103,7 @@ fn solve_bodies<L: Lane>(rows: &[JointRow], a: &mut BodyLanes<L>, b: &mut BodyLa
         // batch with none over (most of the time) skips the part, bit for bit the same.
         if over.any() {
             // glam's try_normalize fails where 1 / |v| is not finite.
-            let (axis, _) = cross.normalize_or_else(1.0 / f32::MAX, || ax.any_orthonormal());
+            let (axis, _) = cross.normalize_or(ax.any_orthonormal(), 1.0 / f32::MAX);
             let amount = over.select(-(swing - swing_max), L::zero());
             relative_rotation(a, b, movable_a, movable_b, axis.scale(amount));
             fa = a.orientation.mul(frame_a);

@@ -119,7 +119,7 @@ pub fn solve_rod_lanes<L: Lane>(row: &RodLanes<L>, a: &mut BodyLanes<L>, b: &mut
     let (ta, tb) = tangents(row, a, b);
     let (axis, sin) = ta
         .cross(tb)
-        .normalize_or_else(TRY_NORMALIZE_EPS, || ta.any_orthonormal());
+        .normalize_or(ta.any_orthonormal(), TRY_NORMALIZE_EPS);
     let psi = sin.atan2(ta.dot(tb));
     let bend = row.alpha_bend.gt(zero) & psi.gt(L::splat(1e-7));
     relative_rotation(
@@ -165,7 +165,7 @@ pub fn solve_rod_lanes<L: Lane>(row: &RodLanes<L>, a: &mut BodyLanes<L>, b: &mut
     // Hard length (eq. 9), linear motion along o^ at fixed psi.
     let (ta, tb) = tangents(row, a, b);
     let offset = b.position - a.position;
-    let (axis, distance) = offset.normalize_or_else(TRY_NORMALIZE_EPS, || ta);
+    let (axis, distance) = offset.normalize_or(ta, TRY_NORMALIZE_EPS);
     let psi = ta.cross(tb).length().atan2(ta.dot(tb));
     let c = distance - row.rest_length * chord_ratio(psi, ta, tb);
     let w = a.inverse_mass + b.inverse_mass;
@@ -281,12 +281,6 @@ pub fn rotation_arc<L: Lane>(from: V3<L>, to: V3<L>) -> Q<L> {
         z: c.z * inv,
         w: w * inv,
     };
-    let identity = Q {
-        x: L::zero(),
-        y: L::zero(),
-        z: L::zero(),
-        w: L::splat(1.0),
-    };
     // from_axis_angle(any_orthonormal(from), pi): sin(pi/2) = 1, cos(pi/2) in f32
     let perpendicular = from.any_orthonormal();
     let half_turn = Q {
@@ -295,10 +289,15 @@ pub fn rotation_arc<L: Lane>(from: V3<L>, to: V3<L>) -> Q<L> {
         z: perpendicular.z,
         w: L::splat((0.5 * std::f32::consts::PI).cos()),
     };
-    let same = dot.gt(L::splat(ONE_MINUS_EPS));
+    let identity = Q {
+        x: L::zero(),
+        y: L::zero(),
+        z: L::zero(),
+        w: L::splat(1.0),
+    };
     let opposite = dot.lt(L::splat(-ONE_MINUS_EPS));
-    let general = q_select(opposite, half_turn, general);
-    q_select(same, identity, general)
+    let same = dot.gt(L::splat(ONE_MINUS_EPS));
+    q_select(same, identity, q_select(opposite, half_turn, general))
 }
 
 /// [`crate::math::wrap_angle`] for angles in [-2 pi, 2 pi] (what `2 atan2` gives).
@@ -321,13 +320,11 @@ pub struct CurveLanes<L> {
 
 #[inline(always)]
 pub fn curve_projection<L: Lane>(pa: V3<L>, ta: V3<L>, pb: V3<L>, tb: V3<L>) -> CurveLanes<L> {
-    let (o, distance) = (pb - pa).normalize_or_else(1e-12, || ta);
+    let (o, distance) = (pb - pa).normalize_or(ta, 1e-12);
     let two = L::splat(2.0);
     let reflect = |v: V3<L>| o.scale(two * v.dot(o)) - v;
     let r = reflect(ta);
-    let (n, sin) = tb
-        .cross(r)
-        .normalize_or_else(1e-12, || tb.any_orthonormal());
+    let (n, sin) = tb.cross(r).normalize_or(tb.any_orthonormal(), 1e-12);
     let error = sin.atan2(tb.dot(r));
     let m = n.cross(r);
     let v = m.scale(ta.dot(o)) + ta.scale(m.dot(o));

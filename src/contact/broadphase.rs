@@ -175,6 +175,12 @@ fn key(cell: [i64; 3]) -> u64 {
     (((cell[0] & MASK) as u64) << 42) | (((cell[1] & MASK) as u64) << 21) | (cell[2] & MASK) as u64
 }
 
+/// The key of the cell holding the lower corner of two overlapping boxes' overlap: the one
+/// cell that reports their pair.
+fn corner_cell(a: &Aabb, b: &Aabb, inverse_cell: f32) -> u64 {
+    key([0, 1, 2].map(|k| cell_of(a.min[k].max(b.min[k]), inverse_cell)))
+}
+
 /// The cells a box covers, per axis, and how many.
 fn cell_span(aabb: &Aabb, inverse_cell: f32) -> ([i64; 3], [i64; 3], i64) {
     let lo = aabb.min.map(|x| cell_of(x, inverse_cell));
@@ -302,9 +308,7 @@ impl BroadPhase {
                                 continue;
                             }
                             // reported from the cell of the overlap's lower corner only
-                            let corner = [0, 1, 2]
-                                .map(|k| cell_of(a.fat.min[k].max(b.fat.min[k]), inverse_cell));
-                            if key(corner) == cell {
+                            if corner_cell(&a.fat, &b.fat, inverse_cell) == cell {
                                 self.found.push(ordered(i));
                             }
                         }
@@ -408,9 +412,7 @@ impl BroadPhase {
                             continue;
                         }
                         // the overlap's lower corner decides the one cell that reports the pair
-                        let corner = [0, 1, 2]
-                            .map(|k| cell_of(a.fat.min[k].max(b.fat.min[k]), inverse_cell));
-                        if key(corner) == cell_key {
+                        if corner_cell(&a.fat, &b.fat, inverse_cell) == cell_key {
                             out.pairs.push((a.index.min(b.index), a.index.max(b.index)));
                         }
                     }
