@@ -59,7 +59,7 @@ fn dislocated_joints(flavour: JointFlavour, limits: bool) -> (Vec<SolverBody>, V
             position,
             Quat::from_rotation_z(0.5 * wobble) * Quat::from_rotation_x(0.3),
         );
-        row.begin_substep(&bodies);
+        row.begin_substep(&bodies, 0.0);
         rows.push(row);
     }
     (bodies.iter().map(SolverBody::from_body).collect(), rows)

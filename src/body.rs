@@ -67,8 +67,11 @@ pub struct Body {
     // --- Sleeping (see [`crate::sleep`]) ---
     /// Out of the step until its island wakes: no integration, no rows, immovable to others.
     pub(crate) asleep: bool,
-    /// How long (s) the body has stayed under the sleep speed.
+    /// How long (s) the body's sleep test points have stayed within their spheres.
     pub(crate) still_for: f32,
+    /// The sleep test's bounding spheres (centre, radius) of where its three test points have
+    /// been since `still_for` was last reset ([`crate::sleep`]).
+    pub(crate) sleep_spheres: [(Vec3, f32); 3],
     /// The island it fell asleep with (a body index, the island's union-find root).
     pub(crate) sleep_island: u32,
 }
@@ -103,6 +106,7 @@ impl Body {
             rotation_correction: Vec3::ZERO,
             asleep: false,
             still_for: 0.0,
+            sleep_spheres: [(Vec3::ZERO, 0.0); 3],
             sleep_island: 0,
         };
         body.set_pose(Vec3::ZERO, Quat::IDENTITY);
@@ -140,6 +144,11 @@ impl Body {
 
     pub fn is_dynamic(&self) -> bool {
         self.kind == BodyKind::Dynamic
+    }
+
+    /// How long (s) the body has passed the sleep test ([`crate::sleep`]); 0 while it moves.
+    pub fn still_for(&self) -> f32 {
+        self.still_for
     }
 
     /// Whether the body is asleep (see [`crate::sleep`]); only dynamic bodies sleep.
@@ -260,6 +269,14 @@ impl Body {
             true => w.sqrt() * self.shape.bounding_radius(),
             false => 0.0,
         }
+    }
+
+    /// The sleep test's points at the current pose: the centre of mass and the ends of the
+    /// shape's two longest half extents ([`Shape::sleep_test_offsets`]).
+    pub fn sleep_test_points(&self) -> [Vec3; 3] {
+        let [a, b] = self.shape.sleep_test_offsets();
+        let turn = |p: Vec3| self.position + self.orientation * p;
+        [self.position, turn(a), turn(b)]
     }
 
     /// World position of a body-space point at the current pose.

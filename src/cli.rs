@@ -141,6 +141,10 @@ pub struct OverrideArgs {
     /// Soft contacts' damping ratio (default the scene's).
     #[arg(long, value_parser = non_negative)]
     pub contact_damping_ratio: Option<f32>,
+    /// Joint damping, a dashpot across every joint (N m s/rad; 0: none, the paper's; default
+    /// the scene's `joint_damping`).
+    #[arg(long, value_parser = non_negative)]
+    pub joint_damping: Option<f32>,
     /// Worker threads of the solver; default rayon's (one per core).
     #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
     pub threads: Option<u64>,
@@ -217,6 +221,7 @@ impl From<&OverrideArgs> for Overrides {
             contact_warm_start: a.contact_warm_start,
             contact_hertz: a.contact_hertz,
             contact_damping_ratio: a.contact_damping_ratio,
+            joint_damping: a.joint_damping,
             dt: a.dt,
             frames: a.frames,
             spine: a.spine,

@@ -112,6 +112,30 @@ impl Shape {
         }
     }
 
+    /// Two body-space points that show how the shape turns: the ends of its two longest half
+    /// extents (a capsule's segment end plus radius, and its radius across). With the centre
+    /// they are the sleep test's points ([`crate::sleep`]); a turn about any axis moves one.
+    pub fn sleep_test_offsets(&self) -> [Vec3; 2] {
+        match *self {
+            Shape::Sphere { radius } => [radius * Vec3::X, radius * Vec3::Y],
+            Shape::Capsule {
+                half_height,
+                radius,
+                axis,
+            } => {
+                let along = axis.unit();
+                let across = along.any_orthonormal_vector();
+                [(half_height + radius) * along, radius * across]
+            }
+            Shape::Cuboid { half_extents: h } => {
+                let mut axes = [h.x * Vec3::X, h.y * Vec3::Y, h.z * Vec3::Z];
+                axes.sort_by(|a, b| b.length_squared().total_cmp(&a.length_squared()));
+                [axes[0], axes[1]]
+            }
+            Shape::HalfSpace => [Vec3::ZERO; 2],
+        }
+    }
+
     /// Half-size of an axis-aligned box around the shape in body space (for drawing and checks).
     pub fn bounding_radius(&self) -> f32 {
         match *self {

@@ -173,3 +173,49 @@ fn joint_corrections_conserve_momentum_of_the_pair() {
         );
     }
 }
+
+/// Joint damping is internal: two free capsules spinning against each other about the line
+/// through their centres and the joint keep their total angular momentum, while the dashpot
+/// (torque `-k w_rel`) takes their relative spin down by `h k w` per substep, `w` the sum of
+/// their inverse moments of inertia about that line.
+#[test]
+fn joint_damping_takes_relative_spin_and_keeps_the_total_angular_momentum() {
+    let substeps = 4;
+    let h = 1.0 / 60.0 / substeps as f32;
+    let shape = Shape::Capsule {
+        half_height: 0.2,
+        radius: 0.05,
+        axis: Axis::X,
+    };
+    let a = Body::new("a", BodyKind::Dynamic, shape, 2.0)
+        .with_pose(Vec3::new(-0.25, 0.0, 0.0), Quat::IDENTITY);
+    let mut b = Body::new("b", BodyKind::Dynamic, shape, 1.0)
+        .with_pose(Vec3::new(0.25, 0.0, 0.0), Quat::IDENTITY);
+    b.angular_velocity = Vec3::new(6.0, 0.0, 0.0);
+    let inverse_inertia = 1.0 / a.inertia.x + 1.0 / b.inertia.x;
+    // 1% of the relative spin per substep
+    let coefficient = 0.01 / (h * inverse_inertia);
+    let mut world = World::new(Settings {
+        substeps,
+        joint_damping: coefficient,
+        ..zero_gravity(1.0 / 60.0)
+    });
+    let (a, b) = (world.add_body(a), world.add_body(b));
+    let joint =
+        BallSocket::at_world_anchor("joint", &world.bodies, a, b, Vec3::ZERO, Quat::IDENTITY)
+            .with_flavour(JointFlavour::Exact);
+    world.add_constraint(joint);
+    let total = |w: &World| w.body(a).angular_momentum() + w.body(b).angular_momentum();
+    let initial = total(&world);
+    for _ in 0..60 {
+        world.step().unwrap();
+    }
+    let drift = (total(&world) - initial).length() / initial.length();
+    assert!(drift < 1e-3, "total angular momentum drifted by {drift}");
+    let relative = (world.body(b).angular_velocity - world.body(a).angular_velocity).x;
+    let predicted = 6.0 * (1.0 - h * coefficient * inverse_inertia).powi(60 * substeps as i32);
+    assert!(
+        (relative / predicted - 1.0).abs() < 0.02,
+        "relative spin {relative} rad/s after 1 s, predicted {predicted}"
+    );
+}

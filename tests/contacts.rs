@@ -911,3 +911,55 @@ fn the_bodies_that_keep_an_island_awake_are_named_with_their_spin_split() {
     );
     assert!((tumble.point_speed - 1.0 * 0.25).abs() < 1e-3, "{tumble:?}");
 }
+
+/// The sleep test reads where a body goes, not how fast (Jolt's test): a box jittering on the
+/// spot (1 cm either side at 5 Hz, 0.31 m/s at its fastest) falls asleep, where a test of the
+/// instantaneous speed would keep it awake for ever, while boxes drifting steadily slower and
+/// faster than twice the sleep speed (the test's sphere spans a steady path's whole length)
+/// do and do not sleep.
+#[test]
+fn a_body_jittering_on_the_spot_sleeps_and_a_drifting_one_does_not() {
+    use rodlab::sleep::{SLEEP_SPEED, TIME_TO_SLEEP};
+    let mut world = World::new(Settings {
+        sleep: true,
+        gravity: Vec3::ZERO,
+        ..Settings::default()
+    });
+    let jitter = sleepy_box(&mut world, "jitter", Vec3::new(0.0, 1.0, 0.0));
+    let slow = sleepy_box(&mut world, "slow", Vec3::new(2.0, 1.0, 0.0));
+    let fast = sleepy_box(&mut world, "fast", Vec3::new(4.0, 1.0, 0.0));
+    world.body_mut(slow).linear_velocity = Vec3::new(1.6 * SLEEP_SPEED, 0.0, 0.0);
+    world.body_mut(fast).linear_velocity = Vec3::new(2.4 * SLEEP_SPEED, 0.0, 0.0);
+    let omega = 2.0 * std::f32::consts::PI * 5.0;
+    let mut asleep_at = [None; 3];
+    for frame in 1..=120 {
+        let t = world.time as f32;
+        if !world.body(jitter).is_asleep() {
+            // velocity of x = 1 cm sin(omega t), over the coming frame
+            world.body_mut(jitter).linear_velocity =
+                Vec3::new(0.01 * omega * (omega * t).cos(), 0.0, 0.0);
+        }
+        world.step().unwrap();
+        for (slot, id) in asleep_at.iter_mut().zip([jitter, slow, fast]) {
+            if slot.is_none() && world.body(id).is_asleep() {
+                *slot = Some(frame);
+            }
+        }
+    }
+    let limit = (TIME_TO_SLEEP * 60.0) as i32 + 2;
+    let [jitter_at, slow_at, fast_at] = asleep_at;
+    assert!(
+        jitter_at.is_some_and(|f| f <= limit),
+        "jittering box asleep at {jitter_at:?}"
+    );
+    assert!(
+        slow_at.is_some_and(|f| f <= limit),
+        "slow box asleep at {slow_at:?}"
+    );
+    assert_eq!(
+        fast_at,
+        None,
+        "a box drifting at {} m/s fell asleep",
+        2.4 * SLEEP_SPEED
+    );
+}

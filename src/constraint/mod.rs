@@ -11,7 +11,7 @@ pub mod parts;
 pub mod rod;
 pub mod rod_lanes;
 
-pub use ball_socket::{AngularSpring, BallSocket, JointFlavour, JointRow};
+pub use ball_socket::{AngularSpring, BallSocket, JointDamping, JointFlavour, JointRow};
 pub use limits::AngularLimit;
 pub use rod::{LengthCorrection, Rod, RodRow, RodState, TwistMode};
 

@@ -72,6 +72,10 @@ pub struct SceneDef {
     /// Linear and angular velocity damping rates (1/s); zero by default.
     #[serde(default)]
     pub damping: [f32; 2],
+    /// Joint damping (N m s/rad): a rotational dashpot across every joint and rod, the torque
+    /// `-k w_rel`; zero by default, the paper's method.
+    #[serde(default)]
+    pub joint_damping: f32,
     /// Whether bodies collide (off: no collision work at all).
     #[serde(default)]
     pub contacts: bool,
@@ -679,6 +683,12 @@ impl Scene {
                 format!("rates must be non-negative, got {:?}", d.damping),
             ));
         }
+        if !(d.joint_damping >= 0.0 && d.joint_damping.is_finite()) {
+            return Err((
+                key("joint_damping"),
+                format!("must be 0 or more (N m s/rad), got {}", d.joint_damping),
+            ));
+        }
         if !(d.max_angular_speed > 0.0) {
             return Err((key("max_angular_speed"), "must be positive".into()));
         }
@@ -863,6 +873,7 @@ impl Scene {
             sleep: d.sleep,
             linear_damping: d.damping[0],
             angular_damping: d.damping[1],
+            joint_damping: d.joint_damping,
         }));
         for (i, r) in d.ragdoll.iter().enumerate() {
             let spec = HumanoidSpec {

@@ -25,7 +25,8 @@
 //!       damping, if any;
 //!    2. predict the preview poses `p* = p + h v`, `q* = exp(h w) q` (exact exponential map)
 //!       into the hot [`SolverBody`] array, with each body's world inverse inertia there;
-//!       take the rows' per-substep constants (the limits' starting twist);
+//!       take the rows' per-substep constants (the limits' starting twist, the joint damping's
+//!       starting relative orientation);
 //!    3. `iterations` times: solve the rods, then the joints, then the contact points, each
 //!       kind colour by colour (the humanoid builder appends a ragdoll's rod before its
 //!       joints, so for ragdolls this is their stored order); within a colour rows are
@@ -53,7 +54,7 @@ pub mod profile;
 pub use crate::{lanes, solver_body as body};
 
 use crate::body::{Body, BodyKind};
-use crate::constraint::{Constraint, JointRow, RodRow};
+use crate::constraint::{Constraint, JointDamping, JointRow, RodRow};
 use crate::contact::{ContactPoint, Contacts};
 use crate::math::{quat_from_rotation_vector, rotation_vector, skew, Mat3, Vec3};
 use body::{SharedBodies, SolverBody};
@@ -130,6 +131,10 @@ pub struct Settings {
     /// paper's scenes; a game scene may use a little to let piles come to rest.
     pub linear_damping: f32,
     pub angular_damping: f32,
+    /// Joint damping (N m s/rad): a rotational dashpot across every ball-and-socket joint and
+    /// rod, the torque `-k w_rel` ([`JointDamping`]), as a ragdoll's muscles would damp it.
+    /// Zero (the default) in the paper's scenes.
+    pub joint_damping: f32,
 }
 
 impl Default for Settings {
@@ -151,6 +156,7 @@ impl Default for Settings {
             sleep: false,
             linear_damping: 0.0,
             angular_damping: 0.0,
+            joint_damping: 0.0,
         }
     }
 }
@@ -282,14 +288,21 @@ impl Solver {
             bodies.iter_mut().zip(&mut self.bodies).for_each(predict);
         }
         let bodies_now: &[Body] = bodies;
+        let damping = JointDamping {
+            coefficient: settings.joint_damping,
+            h,
+            iterations: settings.iterations,
+        };
+        let begin = |r: &mut JointRow| r.begin_substep(bodies_now, damping);
         if parallel && self.joints.len() >= 2 * PARALLEL_MIN_ROWS {
             self.joints
                 .par_chunks_mut(PARALLEL_MIN_ROWS)
-                .for_each(|rows| rows.iter_mut().for_each(|r| r.begin_substep(bodies_now)));
+                .for_each(|rows| rows.iter_mut().for_each(begin));
         } else {
-            self.joints
-                .iter_mut()
-                .for_each(|r| r.begin_substep(bodies_now));
+            self.joints.iter_mut().for_each(begin);
+        }
+        if damping.coefficient > 0.0 || self.rods.iter().any(|r| r.damping.is_some()) {
+            (self.rods.iter_mut()).for_each(|r| r.begin_substep(bodies_now, damping));
         }
         let softness = crate::contact::Softness {
             hertz: settings.contact_hertz,
