@@ -151,7 +151,10 @@ fn settled_against_falling(c: &mut Criterion) {
         sim::run(&mut lab, 60, &mut NoObserver).unwrap();
         let falling = lab.world.clone();
         sim::run(&mut lab, 540, &mut NoObserver).unwrap();
-        assert_eq!(lab.world.awake_bodies, 0, "{spine}: the pile is not asleep at 10 s");
+        assert_eq!(
+            lab.world.awake_bodies, 0,
+            "{spine}: the pile is not asleep at 10 s"
+        );
         for (phase, world) in [("falling", falling), ("settled", lab.world)] {
             group.bench_function(format!("{spine}/{phase}"), |b| {
                 b.iter_batched_ref(

@@ -79,6 +79,13 @@ pub struct JointDamping {
 }
 
 impl JointDamping {
+    /// No damping (the paper's method).
+    pub const NONE: Self = JointDamping {
+        coefficient: 0.0,
+        h: 0.0,
+        iterations: 1,
+    };
+
     /// This substep's damping spring between `a` and `b` at the substep's start: rest at their
     /// relative orientation now; `None` without damping or without relative spin.
     pub fn spring(self, a: &Body, b: &Body) -> Option<AngularSpring> {
