@@ -7,8 +7,7 @@
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
 use rodlab::body::{Body, BodyId, BodyKind};
 use rodlab::constraint::{
-    ball_socket_lanes, rod_lanes, AngularLimit, BallSocket, JointDamping, JointFlavour, JointRow,
-    Rod, RodRow,
+    ball_socket_lanes, rod_lanes, AngularLimit, BallSocket, JointFlavour, JointRow, Rod, RodRow,
 };
 use rodlab::math::{Quat, Vec3};
 use rodlab::ragdoll::SpineKind;
@@ -60,7 +59,7 @@ fn dislocated_joints(flavour: JointFlavour, limits: bool) -> (Vec<SolverBody>, V
             position,
             Quat::from_rotation_z(0.5 * wobble) * Quat::from_rotation_x(0.3),
         );
-        row.begin_substep(&bodies, JointDamping::NONE);
+        row.begin_substep(&bodies);
         rows.push(row);
     }
     (bodies.iter().map(SolverBody::from_body).collect(), rows)

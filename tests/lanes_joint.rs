@@ -81,8 +81,6 @@ enum Case {
     Sprung,
     /// Limit and spring.
     Both,
-    /// Limit, spring and joint damping.
-    Damped,
     /// Anchors coincide exactly, identity orientations, limit satisfied: no correction.
     Rest,
     /// Hinge with antiparallel x axes: the swing axis falls back to a perpendicular.
@@ -110,7 +108,6 @@ fn make_row(
         limit: None,
         start_twist: 0.0,
         spring: None,
-        damping: None,
         flavour,
     };
     let limit = AngularLimit::cone(
@@ -139,15 +136,6 @@ fn make_row(
             row.limit = Some(limit);
             row.start_twist = start(rng, bodies, &row);
             row.spring = Some(spring);
-        }
-        Case::Damped => {
-            row.limit = Some(limit);
-            row.start_twist = start(rng, bodies, &row);
-            row.spring = Some(spring);
-            row.damping = Some(AngularSpring {
-                relaxation: rng.range(0.01, 0.5),
-                rest: rng.quat(),
-            });
         }
         Case::Rest => {
             for (i, x) in [(ia, -0.5f32), (ib, 0.5)] {
@@ -340,12 +328,11 @@ fn lanes8(rows: &mut [JointRow], bodies: SharedBodies) {
     solve_lanes::<wide::f32x8>(rows, bodies)
 }
 
-const ALL: [Case; 8] = [
+const ALL: [Case; 7] = [
     Case::Plain,
     Case::Limited,
     Case::Sprung,
     Case::Both,
-    Case::Damped,
     Case::Rest,
     Case::Antiparallel,
     Case::Unwrap,
@@ -359,7 +346,6 @@ fn sweep(w: usize, kernel: fn(&mut [JointRow], SharedBodies), statics: bool) -> 
         vec![Case::Plain],
         vec![Case::Limited],
         vec![Case::Sprung],
-        vec![Case::Damped, Case::Plain],
         vec![Case::Rest],
         vec![Case::Unwrap, Case::Plain],
         vec![Case::Antiparallel, Case::Limited, Case::Rest],

@@ -132,13 +132,6 @@ fn rods(copies: usize) -> (Vec<SolverBody>, Vec<RodRow>) {
         rod.body_a = BodyId(base);
         rod.body_b = BodyId(base + 1);
         rows.push(rod.prepare());
-        if k % 3 == 1 {
-            // joint damping on every third rod: batches mix damped and undamped lanes
-            rows.last_mut().unwrap().damping = Some(rodlab::constraint::AngularSpring {
-                relaxation: 0.3,
-                rest: Quat::from_rotation_y(0.2 * x.cos()) * Quat::from_rotation_x(0.1),
-            });
-        }
         for (j, body) in pair.iter().enumerate() {
             let mut s = SolverBody::from_body(body);
             if s.inverse_mass != 0.0 {

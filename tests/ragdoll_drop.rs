@@ -183,7 +183,7 @@ fn the_step_profile_accounts_for_the_step() {
 /// joints, contacts warm-started at 0.25 and soft at 30 Hz) with joint damping 0.1 N m s/rad
 /// and sleeping on, the scene's pile (seed 7) is asleep, or has every surface point under the
 /// sleep speed, after its 10 s, with either spine. Not every layout manages it by 10 s: over
-/// seeds 1-12, 20 of the 24 piles (spine x seed) are all asleep by 10 s, 23 by 15 s (measured
+/// seeds 1-12, 19 of the 24 piles (spine x seed) are all asleep by 10 s, 23 by 15 s (measured
 /// with a probe not kept; README, Sleeping).
 #[test]
 fn the_drop_pile_falls_asleep_at_the_game_method_with_joint_damping() {

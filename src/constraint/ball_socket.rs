@@ -18,17 +18,7 @@
 //! A spring with relaxation 1 is a hard angular target (the paper's "internal torque
 //! constraints" of §8) and its error counts as angular violation.
 //!
-//! Joint damping (when the scene asks for a coefficient `k`, N m s/rad): a rotational dashpot,
-//! the torque `-k w_rel` against the bodies' relative angular velocity. It is solved as a second
-//! such spring whose rest is the relative orientation at the substep's start: the dashpot's
-//! angular impulse over a substep of `h` turns the free pair by the fraction `h k w(n)` of their
-//! relative turn (`w(n) = n . (I_a^-1 + I_b^-1) n` along the relative spin), spread over the
-//! iterations. Solved inside the sweep with the point constraint, the turn is projected onto
-//! what the joint allows, so a limb swinging about its joint slows at `k / (2 I_pivot)`, the
-//! damped pendulum's rate. (A rate per substep without `w(n)`, tried first, is a dashpot of
-//! `k = c I_cm`: a limb swinging about its end slowed at a quarter of `c / 2`.)
-//!
-//! Solve order per iteration: spring, damping, limits, point, so the dislocation is the freshest.
+//! Solve order per iteration: spring, limits, point, so the dislocation is the freshest.
 //!
 //! Stages: [`BallSocket::prepare`] flattens the joint into a [`JointRow`] (body indices, no
 //! name) once per frame; [`JointRow::begin_substep`] takes the limit's starting twist;
@@ -66,63 +56,6 @@ pub struct AngularSpring {
     pub relaxation: f32,
     /// Rest relative orientation `q_a^-1 q_b`.
     pub rest: Quat,
-}
-
-/// Joint damping (see the module docs): a rotational dashpot across every joint and rod.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct JointDamping {
-    /// Torque per relative angular velocity (N m s/rad); 0: none.
-    pub coefficient: f32,
-    /// Substep (s) and iterations per substep.
-    pub h: f32,
-    pub iterations: u32,
-}
-
-impl JointDamping {
-    /// No damping (the paper's method).
-    pub const NONE: Self = JointDamping {
-        coefficient: 0.0,
-        h: 0.0,
-        iterations: 1,
-    };
-
-    /// This substep's damping spring between `a` and `b` at the substep's start: rest at their
-    /// relative orientation now; `None` without damping or without relative spin.
-    pub fn spring(self, a: &Body, b: &Body) -> Option<AngularSpring> {
-        if !(self.coefficient > 0.0) {
-            return None;
-        }
-        let relative = b.angular_velocity - a.angular_velocity;
-        let speed = relative.length();
-        if !(speed > 0.0) {
-            return None;
-        }
-        let axis = relative / speed;
-        let inverse_inertia = |body: &Body| match body.is_awake_dynamic() {
-            true => axis.dot(body.inverse_inertia_world() * axis),
-            false => 0.0,
-        };
-        // the dashpot's angular impulse over the substep, as a fraction of the free pair's turn
-        let per_substep = self.h * self.coefficient * (inverse_inertia(a) + inverse_inertia(b));
-        if !(per_substep > 0.0) {
-            return None;
-        }
-        let per_iteration = 1.0 / self.iterations.max(1) as f32;
-        Some(AngularSpring {
-            relaxation: 1.0 - (1.0 - per_substep.min(1.0)).powf(per_iteration),
-            rest: (a.orientation.inverse() * b.orientation).normalize(),
-        })
-    }
-}
-
-impl AngularSpring {
-    /// One projection: removes `relaxation` of the rotation `q_a q_rest q_b^-1`.
-    #[inline]
-    pub fn solve(self, a: &mut SolverBody, b: &mut SolverBody) {
-        let target_b = a.orientation * self.rest;
-        let error = rotation_vector(target_b * b.orientation.inverse());
-        relative_rotation(a, b, self.relaxation * error);
-    }
 }
 
 #[derive(Clone, Debug)]
@@ -202,7 +135,6 @@ impl BallSocket {
             limit: self.limit,
             start_twist: 0.0,
             spring: self.spring,
-            damping: None,
             flavour: self.flavour,
         }
     }
@@ -248,31 +180,28 @@ pub struct JointRow {
     /// Twist of the joint frames at the substep's start (limits unwrap against it).
     pub start_twist: f32,
     pub spring: Option<AngularSpring>,
-    /// Joint damping in this substep: a spring toward the relative orientation the substep
-    /// started with ([`JointRow::begin_substep`]); `None` without damping.
-    pub damping: Option<AngularSpring>,
     pub flavour: JointFlavour,
 }
 
 impl JointRow {
-    /// Per-substep constants, from the bodies' poses at the substep's start: the limit's
-    /// starting twist, and the joint damping's spring.
-    pub fn begin_substep(&mut self, bodies: &[Body], damping: JointDamping) {
-        let (a, b) = (&bodies[self.body_a as usize], &bodies[self.body_b as usize]);
+    /// Per-substep constants, from the bodies' poses at the substep's start.
+    pub fn begin_substep(&mut self, bodies: &[Body]) {
         if self.limit.is_some() {
+            let (a, b) = (&bodies[self.body_a as usize], &bodies[self.body_b as usize]);
             self.start_twist = AngularLimit::start_twist(
                 a.orientation * self.frame_a,
                 b.orientation * self.frame_b,
             );
         }
-        self.damping = damping.spring(a, b);
     }
 
-    /// One projection of the preview poses: spring, damping, limits, then the point.
+    /// One projection of the preview poses: spring, limits, then the point.
     #[inline]
     pub fn solve(&self, a: &mut SolverBody, b: &mut SolverBody) {
-        for spring in [self.spring, self.damping].into_iter().flatten() {
-            spring.solve(a, b);
+        if let Some(spring) = self.spring {
+            let target_b = a.orientation * spring.rest;
+            let error = rotation_vector(target_b * b.orientation.inverse());
+            relative_rotation(a, b, spring.relaxation * error);
         }
         if let Some(limit) = self.limit {
             limit.solve(a, b, self.frame_a, self.frame_b, self.start_twist);

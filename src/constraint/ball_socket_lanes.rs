@@ -65,18 +65,16 @@ fn solve_bodies<L: Lane>(rows: &[JointRow], a: &mut BodyLanes<L>, b: &mut BodyLa
     let movable_a = movable(a);
     let movable_b = movable(b);
 
-    // Spring, then damping: remove `relaxation` of the rotation q_a q_rest q_b^-1.
-    for spring in [|r: &JointRow| r.spring, |r: &JointRow| r.damping] {
-        if rows.iter().any(|r| spring(r).is_some()) {
-            let relaxation = L::from_fn(|i| spring(&rows[i]).map_or(0.0, |s| s.relaxation));
-            let rest = Q::from_fn(|i| spring(&rows[i]).map_or(Quat::IDENTITY, |s| s.rest));
-            let error = a
-                .orientation
-                .mul(rest)
-                .mul(b.orientation.conjugate())
-                .rotation_vector();
-            relative_rotation(a, b, movable_a, movable_b, error.scale(relaxation));
-        }
+    // Spring: remove `relaxation` of the rotation q_a q_rest q_b^-1.
+    if rows.iter().any(|r| r.spring.is_some()) {
+        let relaxation = L::from_fn(|i| rows[i].spring.map_or(0.0, |s| s.relaxation));
+        let rest = Q::from_fn(|i| rows[i].spring.map_or(Quat::IDENTITY, |s| s.rest));
+        let error = a
+            .orientation
+            .mul(rest)
+            .mul(b.orientation.conjugate())
+            .rotation_vector();
+        relative_rotation(a, b, movable_a, movable_b, error.scale(relaxation));
     }
 
     // Limits: swing cone, then twist unwrapped next to the substep's starting twist.

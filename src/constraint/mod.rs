@@ -6,12 +6,14 @@
 
 pub mod ball_socket;
 pub mod ball_socket_lanes;
+pub mod damper;
 pub mod limits;
 pub mod parts;
 pub mod rod;
 pub mod rod_lanes;
 
-pub use ball_socket::{AngularSpring, BallSocket, JointDamping, JointFlavour, JointRow};
+pub use ball_socket::{AngularSpring, BallSocket, JointFlavour, JointRow};
+pub use damper::{DamperRow, JointDamping};
 pub use limits::AngularLimit;
 pub use rod::{LengthCorrection, Rod, RodRow, RodState, TwistMode};
 

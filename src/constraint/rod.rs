@@ -33,7 +33,6 @@
 
 use super::parts::relative_rotation;
 use super::Violation;
-use super::{AngularSpring, JointDamping};
 use crate::body::{Body, BodyId};
 use crate::math::{angle_between, any_perpendicular, twist_angle, Quat, Vec3};
 use crate::solver_body::SolverBody;
@@ -157,7 +156,6 @@ impl Rod {
             alpha_twist: self.alpha_twist,
             twist_mode: self.twist_mode,
             length_correction: self.length_correction,
-            damping: None,
         }
     }
 
@@ -214,23 +212,11 @@ pub struct RodRow {
     pub alpha_twist: f32,
     pub twist_mode: TwistMode,
     pub length_correction: LengthCorrection,
-    /// Joint damping in this substep, as a ball-and-socket joint's
-    /// ([`super::JointRow::begin_substep`]); `None` without damping.
-    pub damping: Option<AngularSpring>,
 }
 
 impl RodRow {
-    /// Per-substep constants: the joint damping's spring, as a ball-and-socket joint's.
-    pub fn begin_substep(&mut self, bodies: &[Body], damping: JointDamping) {
-        let (a, b) = (&bodies[self.body_a as usize], &bodies[self.body_b as usize]);
-        self.damping = damping.spring(a, b);
-    }
-
     /// One projection of bend, twist, curve and length, sharing the geometry (§7).
     pub fn solve(&self, a: &mut SolverBody, b: &mut SolverBody) {
-        if let Some(damping) = self.damping {
-            damping.solve(a, b);
-        }
         // Soft bend (eq. 11): remove alpha_b of psi about t_a x t_b.
         let (fa, fb) = (a.orientation * self.frame_a, b.orientation * self.frame_b);
         let (ta, tb) = (fa * Vec3::X, fb * Vec3::X);

@@ -5,7 +5,7 @@
 //! ([`TwistMode::Exact`], [`LengthCorrection::Offset`]): soft bend (eq. 11), soft twist (eq.
 //! 12-13, the exact parallel-transport twist), hard curve (eq. 6, full gradient) and hard length
 //! (eq. 9, along the offset), in one function and in the scalar order, each part reading the
-//! frames the previous part left; joint damping first, where the batch has it. Every branch of the scalar code is a mask:
+//! frames the previous part left. Every branch of the scalar code is a mask:
 //!
 //! - bend only where `alpha_b > 0` and `psi > 1e-7`; its axis `(t_a x t_b)^`, else
 //!   `any_perpendicular(t_a)`;
@@ -34,7 +34,6 @@
 
 use super::rod::{LengthCorrection, RodRow, TwistMode};
 use crate::lanes::{BodyLanes, Lane, Q, V3};
-use crate::math::Quat;
 use crate::solver_body::SharedBodies;
 
 /// Solves a batch of rows that share no movable body: W = 4 or 8 lanes when every row uses the
@@ -95,9 +94,6 @@ pub struct RodLanes<L> {
     pub rest_length: L,
     pub alpha_bend: L,
     pub alpha_twist: L,
-    /// Joint damping: relaxation and rest per lane (relaxation 0 where a row has none);
-    /// `None` when no row of the batch has it.
-    pub damping: Option<(L, Q<L>)>,
 }
 
 impl<L: Lane> RodLanes<L> {
@@ -108,13 +104,6 @@ impl<L: Lane> RodLanes<L> {
             rest_length: L::from_fn(|i| rows[i].rest_length),
             alpha_bend: L::from_fn(|i| rows[i].alpha_bend),
             alpha_twist: L::from_fn(|i| rows[i].alpha_twist),
-            damping: rows.iter().any(|r| r.damping.is_some()).then(|| {
-                let spring = |i: usize| rows[i].damping;
-                (
-                    L::from_fn(|i| spring(i).map_or(0.0, |s| s.relaxation)),
-                    Q::from_fn(|i| spring(i).map_or(Quat::IDENTITY, |s| s.rest)),
-                )
-            }),
         }
     }
 }
@@ -125,17 +114,6 @@ pub fn solve_rod_lanes<L: Lane>(row: &RodLanes<L>, a: &mut BodyLanes<L>, b: &mut
     let zero = L::zero();
     let movable_a = a.inverse_mass.gt(zero);
     let movable_b = b.inverse_mass.gt(zero);
-
-    // Joint damping: remove `relaxation` of the rotation q_a q_rest q_b^-1.
-    if let Some((relaxation, rest)) = row.damping {
-        let error = a
-            .orientation
-            .mul(rest)
-            .mul(b.orientation.conjugate())
-            .rotation_vector();
-        let active = relaxation.gt(zero);
-        relative_rotation(a, b, movable_a, movable_b, active, error.scale(relaxation));
-    }
 
     // Soft bend (eq. 11): remove alpha_b of psi about t_a x t_b.
     let (ta, tb) = tangents(row, a, b);

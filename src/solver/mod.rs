@@ -25,9 +25,10 @@
 //!       damping, if any;
 //!    2. predict the preview poses `p* = p + h v`, `q* = exp(h w) q` (exact exponential map)
 //!       into the hot [`SolverBody`] array, with each body's world inverse inertia there;
-//!       take the rows' per-substep constants (the limits' starting twist, the joint damping's
-//!       starting relative orientation);
-//!    3. `iterations` times: solve the rods, then the joints, then the contact points, each
+//!       take the rows' per-substep constants (the limits' starting twist; with joint damping,
+//!       each damper's starting relative orientation and relaxation);
+//!    3. `iterations` times: solve the joint dampers if any ([`crate::constraint::damper`]),
+//!       then the rods, then the joints, then the contact points, each
 //!       kind colour by colour (the humanoid builder appends a ragdoll's rod before its
 //!       joints, so for ragdolls this is their stored order); within a colour rows are
 //!       independent, so they are solved [`SolverKind::Scalar`] one by one or
@@ -54,7 +55,7 @@ pub mod profile;
 pub use crate::{lanes, solver_body as body};
 
 use crate::body::{Body, BodyKind};
-use crate::constraint::{Constraint, JointDamping, JointRow, RodRow};
+use crate::constraint::{Constraint, DamperRow, JointDamping, JointRow, RodRow};
 use crate::contact::{ContactPoint, Contacts};
 use crate::math::{quat_from_rotation_vector, rotation_vector, skew, Mat3, Vec3};
 use body::{SharedBodies, SolverBody};
@@ -132,8 +133,8 @@ pub struct Settings {
     pub linear_damping: f32,
     pub angular_damping: f32,
     /// Joint damping (N m s/rad): a rotational dashpot across every ball-and-socket joint and
-    /// rod, the torque `-k w_rel` ([`JointDamping`]), as a ragdoll's muscles would damp it.
-    /// Zero (the default) in the paper's scenes.
+    /// rod, the torque `-k w_rel` ([`crate::constraint::damper`]), as a ragdoll's muscles would
+    /// damp it. Zero (the default) in the paper's scenes: no damper rows at all.
     pub joint_damping: f32,
 }
 
@@ -182,10 +183,14 @@ pub struct Solver {
     joint_colours: Colours,
     rods: Vec<RodRow>,
     rod_colours: Colours,
+    /// Joint damping's rows, one per joint and rod, only when the scene asks for damping.
+    dampers: Vec<DamperRow>,
+    damper_colours: Colours,
     contact_colours: Colours,
     colouring: Colouring,
     joint_scratch: Vec<JointRow>,
     rod_scratch: Vec<RodRow>,
+    damper_scratch: Vec<DamperRow>,
     contact_scratch: Vec<ContactPoint>,
     /// Wall time of the last step's phases.
     pub profile: Profile,
@@ -211,7 +216,7 @@ impl Solver {
         }
         self.profile.detect = lap(&mut clock);
         // 2. prepare: rows per kind, coloured
-        self.prepare(bodies, constraints, contacts);
+        self.prepare(bodies, constraints, contacts, settings.joint_damping > 0.0);
         self.profile.prepare = lap(&mut clock);
         // 3. substeps
         for _ in 0..substeps {
@@ -220,16 +225,26 @@ impl Solver {
     }
 
     /// Step 2: rows per kind, coloured.
-    fn prepare(&mut self, bodies: &[Body], constraints: &[Constraint], contacts: &mut Contacts) {
+    fn prepare(
+        &mut self,
+        bodies: &[Body],
+        constraints: &[Constraint],
+        contacts: &mut Contacts,
+        damped: bool,
+    ) {
         self.movable.clear();
         self.movable
             .extend(bodies.iter().map(Body::is_awake_dynamic));
         self.joints.clear();
         self.rods.clear();
+        self.dampers.clear();
         for constraint in constraints {
             let (a, b) = constraint.bodies();
             if !(self.movable[a.index()] || self.movable[b.index()]) {
                 continue; // nothing to move (a sleeping island, or fixed bodies only)
+            }
+            if damped {
+                self.dampers.push(DamperRow::prepare(constraint));
             }
             match constraint {
                 Constraint::BallSocket(joint) => self.joints.push(joint.prepare()),
@@ -250,6 +265,14 @@ impl Solver {
             &mut self.rods,
             &mut self.rod_scratch,
             &mut self.rod_colours,
+            movable,
+            |r| (r.body_a, r.body_b),
+        );
+        self.colouring.colour(
+            Order::Kept,
+            &mut self.dampers,
+            &mut self.damper_scratch,
+            &mut self.damper_colours,
             movable,
             |r| (r.body_a, r.body_b),
         );
@@ -288,21 +311,27 @@ impl Solver {
             bodies.iter_mut().zip(&mut self.bodies).for_each(predict);
         }
         let bodies_now: &[Body] = bodies;
+        if parallel && self.joints.len() >= 2 * PARALLEL_MIN_ROWS {
+            self.joints
+                .par_chunks_mut(PARALLEL_MIN_ROWS)
+                .for_each(|rows| rows.iter_mut().for_each(|r| r.begin_substep(bodies_now)));
+        } else {
+            self.joints
+                .iter_mut()
+                .for_each(|r| r.begin_substep(bodies_now));
+        }
         let damping = JointDamping {
             coefficient: settings.joint_damping,
             h,
             iterations: settings.iterations,
         };
-        let begin = |r: &mut JointRow| r.begin_substep(bodies_now, damping);
-        if parallel && self.joints.len() >= 2 * PARALLEL_MIN_ROWS {
-            self.joints
+        let begin = |r: &mut DamperRow| r.begin_substep(bodies_now, damping);
+        if parallel && self.dampers.len() >= 2 * PARALLEL_MIN_ROWS {
+            self.dampers
                 .par_chunks_mut(PARALLEL_MIN_ROWS)
                 .for_each(|rows| rows.iter_mut().for_each(begin));
         } else {
-            self.joints.iter_mut().for_each(begin);
-        }
-        if damping.coefficient > 0.0 || self.rods.iter().any(|r| r.damping.is_some()) {
-            (self.rods.iter_mut()).for_each(|r| r.begin_substep(bodies_now, damping));
+            self.dampers.iter_mut().for_each(begin);
         }
         let softness = crate::contact::Softness {
             hertz: settings.contact_hertz,
@@ -319,6 +348,18 @@ impl Solver {
         let shared = SharedBodies::new(&mut self.bodies);
         let kind = settings.solver;
         for _ in 0..settings.iterations {
+            if !self.dampers.is_empty() {
+                solve_colours(
+                    &mut self.dampers,
+                    &self.damper_colours,
+                    shared,
+                    kind,
+                    parallel,
+                    |row, a, b| row.solve(a, b),
+                    DamperRow::solve_batch,
+                );
+                self.profile.joints += lap(&mut clock);
+            }
             solve_colours(
                 &mut self.rods,
                 &self.rod_colours,
@@ -444,6 +485,12 @@ pub trait RowBodies {
 }
 
 impl RowBodies for JointRow {
+    fn bodies(&self) -> (u32, u32) {
+        (self.body_a, self.body_b)
+    }
+}
+
+impl RowBodies for DamperRow {
     fn bodies(&self) -> (u32, u32) {
         (self.body_a, self.body_b)
     }
