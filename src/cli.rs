@@ -45,6 +45,10 @@ pub enum Command {
     /// Runs one scene and records it.
     Run {
         scene: PathBuf,
+        /// Run the scene's `[[variant]]` of this name (its settings, then the overrides below),
+        /// recorded as <scene>_<variant>.
+        #[arg(long)]
+        variant: Option<String>,
         #[command(flatten)]
         overrides: OverrideArgs,
         #[command(flatten)]
@@ -277,11 +281,13 @@ fn dispatch(cli: Cli, matches: &ArgMatches) -> anyhow::Result<()> {
         }) => run_all(&scenes, &out, &(&overrides).into()),
         Some(Command::Run {
             scene,
+            variant,
             overrides,
             rerun,
         }) => {
             let sub = matches.subcommand_matches("run").expect("run subcommand");
-            run_one(&scene, &(&overrides).into(), &rerun, rerun_sink_given(sub))
+            let scene = load_scene(&scene, variant.as_deref(), &(&overrides).into())?;
+            run_one(&scene, &rerun, rerun_sink_given(sub))
         }
         Some(Command::Check { scenes }) => check(&scenes),
         Some(Command::Stress { out }) => stress(&out),
@@ -638,8 +644,16 @@ fn rerun_sink_given(matches: &ArgMatches) -> bool {
 }
 
 /// Loads a scene and applies overrides.
-pub fn load_scene(path: &Path, overrides: &Overrides) -> anyhow::Result<Scene> {
+/// Loads a scene, at its `[[variant]]` `variant` if given, with the command line's overrides.
+pub fn load_scene(
+    path: &Path,
+    variant: Option<&str>,
+    overrides: &Overrides,
+) -> anyhow::Result<Scene> {
     let mut scene = Scene::load(path)?;
+    if let Some(name) = variant {
+        scene = scene.variant(name)?;
+    }
     overrides.apply(&mut scene.def);
     Ok(scene)
 }
@@ -717,22 +731,20 @@ impl Observer for RowPrinter<'_> {
 }
 
 fn run_one(
-    path: &Path,
-    overrides: &Overrides,
+    scene: &Scene,
     rerun_args: &rerun::clap::RerunArgs,
     sink_given: bool,
 ) -> anyhow::Result<()> {
-    let scene = load_scene(path, overrides)?;
     let name = scene.name();
     let (rec, _serve_guard) = if sink_given {
-        rerun_args.init_with_blueprint(record::APPLICATION_ID, record::blueprint(&scene))?
+        rerun_args.init_with_blueprint(record::APPLICATION_ID, record::blueprint(scene))?
     } else {
         let out = Path::new("recordings").join(format!("{name}.rrd"));
         eprintln!("recording to {}", out.display());
-        (record::save_to(&out, &scene)?, Default::default())
+        (record::save_to(&out, scene)?, Default::default())
     };
-    let report = record_scene(&scene, rec)?;
-    print_summary(&name, &scene, &report);
+    let report = record_scene(scene, rec)?;
+    print_summary(&name, scene, &report);
     Ok(())
 }
 
@@ -750,7 +762,7 @@ fn run_all(scenes_dir: &Path, out_dir: &Path, overrides: &Overrides) -> anyhow::
     );
     let mut failures = Vec::new();
     for path in &paths {
-        let result = load_scene(path, overrides).and_then(|mut scene| {
+        let result = load_scene(path, None, overrides).and_then(|mut scene| {
             // heavy scenes give the main job a shorter run (`ci_frames`), unless --frames
             if let (None, Some(n)) = (overrides.frames, scene.def.ci_frames) {
                 println!(
@@ -761,7 +773,7 @@ fn run_all(scenes_dir: &Path, out_dir: &Path, overrides: &Overrides) -> anyhow::
                 scene.def.frames = n;
             }
             let mut reports = Vec::new();
-            for variant in variants(&scene, overrides) {
+            for variant in variants(&scene, overrides)? {
                 let name = variant.name();
                 let out = out_dir.join(format!("{name}.rrd"));
                 let started = std::time::Instant::now();
@@ -774,8 +786,14 @@ fn run_all(scenes_dir: &Path, out_dir: &Path, overrides: &Overrides) -> anyhow::
                 );
                 reports.push((name, report));
             }
-            if let [(name_a, a), (name_b, b)] = reports.as_slice() {
-                print_comparison(name_a, a, name_b, b);
+            // two spines: compare them, per method
+            if scene.def.spines.len() == 2 && overrides.spine.is_none() {
+                for pair in reports.chunks_exact(2) {
+                    let [(name_a, a), (name_b, b)] = pair else {
+                        unreachable!()
+                    };
+                    print_comparison(name_a, a, name_b, b);
+                }
             }
             Ok(())
         });
@@ -793,27 +811,34 @@ fn run_all(scenes_dir: &Path, out_dir: &Path, overrides: &Overrides) -> anyhow::
     Ok(())
 }
 
-/// The runs the main job makes of a scene: one per spine listed in `spines` (named
-/// `<scene>_<spine>`), unless the command line fixed the spine.
-fn variants(scene: &Scene, overrides: &Overrides) -> Vec<Scene> {
-    if scene.def.spines.is_empty() || overrides.spine.is_some() {
-        return vec![scene.clone()];
+/// The runs the main job makes of a scene: the scene's own method, then each `[[variant]]`
+/// (named `<scene>_<variant>`, the command line's overrides applied again on top); each once
+/// per spine listed in `spines` (named `<name>_<spine>`), unless the command line fixed the
+/// spine.
+fn variants(scene: &Scene, overrides: &Overrides) -> anyhow::Result<Vec<Scene>> {
+    let mut methods = vec![scene.clone()];
+    for variant in &scene.def.variant {
+        let mut method = scene.variant(&variant.name)?;
+        overrides.apply(&mut method.def);
+        methods.push(method);
     }
-    scene
-        .def
-        .spines
-        .iter()
-        .map(|&spine| {
-            let mut variant = scene.clone();
+    if scene.def.spines.is_empty() || overrides.spine.is_some() {
+        return Ok(methods);
+    }
+    let mut runs = Vec::new();
+    for method in &methods {
+        for &spine in &method.def.spines {
+            let mut run = method.clone();
             Overrides {
                 spine: Some(spine),
                 ..Default::default()
             }
-            .apply(&mut variant.def);
-            variant.def.name = Some(format!("{}_{spine}", scene.name()));
-            variant
-        })
-        .collect()
+            .apply(&mut run.def);
+            run.def.name = Some(format!("{}_{spine}", method.name()));
+            runs.push(run);
+        }
+    }
+    Ok(runs)
 }
 
 /// Mean total dislocation of two runs of one scene, and the share of frames where the second

@@ -479,3 +479,65 @@ fn ci_frames_beyond_frames() {
     );
     assert!(e.contains("[1, frames = 10]"), "{e}");
 }
+
+#[test]
+fn negative_joint_damping() {
+    let e = error_for("iterations = 10", "iterations = 10\njoint_damping = -1.0");
+    assert!(e.starts_with("scenes/x.toml:4: joint_damping: "), "{e}");
+}
+
+/// A `[[variant]]` is a second method for the same scene: its settings override the file's
+/// (and the rest stay), it is named `<scene>_<variant>`, and its mistakes are reported at its
+/// own lines like any other field's.
+#[test]
+fn variants_override_the_settings_and_their_mistakes_name_their_lines() {
+    let variant = "\n[[variant]]\nname = \"fast\"\nsubsteps = 4\niterations = 2\n\
+                   joint_damping = 0.5\nsleep = true\n";
+    let scene = Scene::parse("scenes/x.toml", &format!("{GOOD}{variant}")).unwrap();
+    let fast = scene.variant("fast").unwrap();
+    assert_eq!(fast.name(), "x_fast");
+    let (base, fast) = (scene.build().unwrap().world, fast.build().unwrap().world);
+    assert_eq!((base.settings.substeps, base.settings.iterations), (1, 10));
+    assert_eq!((fast.settings.substeps, fast.settings.iterations), (4, 2));
+    assert_eq!(fast.settings.joint_damping, 0.5);
+    assert!(fast.settings.sleep && !base.settings.sleep);
+    assert_eq!(fast.settings.dt, base.settings.dt);
+    let unknown = scene.variant("slow").unwrap_err().to_string();
+    assert!(
+        unknown.contains("no [[variant]] named \"slow\" (the file has fast)"),
+        "{unknown}"
+    );
+
+    let line = GOOD.lines().count() + 3; // the blank line, [[variant]], name
+    let error = |text: &str| {
+        Scene::parse("scenes/x.toml", &format!("{GOOD}{text}"))
+            .expect_err("must fail")
+            .to_string()
+    };
+    let e = error("\n[[variant]]\nname = \"Fast One\"\n");
+    assert!(
+        e.starts_with(&format!("scenes/x.toml:{line}: variant[0].name: ")),
+        "{e}"
+    );
+    let e = error("\n[[variant]]\nname = \"fast\"\niterations = 0\n");
+    assert_eq!(
+        e,
+        format!(
+            "scenes/x.toml:{}: variant[0].iterations: must be at least 1",
+            line + 1
+        )
+    );
+    let e = error("\n[[variant]]\nname = \"fast\"\ndt = 0.1\n");
+    assert!(
+        e.starts_with(&format!(
+            "scenes/x.toml:{}: variant[0].dt: unknown field",
+            line + 1
+        )),
+        "{e}"
+    );
+    let e = error("\n[[variant]]\nname = \"a\"\n[[variant]]\nname = \"a\"\n");
+    assert!(
+        e.contains("variant[1].name: a variant named \"a\" comes earlier"),
+        "{e}"
+    );
+}

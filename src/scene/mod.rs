@@ -4,6 +4,11 @@
 //! Every error reads `FILE:LINE: FIELD: message`, for syntax, type and semantic mistakes alike.
 
 mod locate;
+mod overrides;
+mod variant;
+
+pub use overrides::Overrides;
+pub use variant::VariantDef;
 
 use std::path::{Path, PathBuf};
 
@@ -76,6 +81,9 @@ pub struct SceneDef {
     /// `-k w_rel`; zero by default, the paper's method.
     #[serde(default)]
     pub joint_damping: f32,
+    /// Method variants the main job records beside this one ([`VariantDef`]).
+    #[serde(default)]
+    pub variant: Vec<VariantDef>,
     /// Whether bodies collide (off: no collision work at all).
     #[serde(default)]
     pub contacts: bool,
@@ -649,81 +657,17 @@ impl Scene {
     /// Semantic checks serde cannot express.
     fn check(&self) -> Result<(), (Vec<Seg>, String)> {
         let d = &self.def;
-        let key = |k: &str| vec![Seg::Key(k.into())];
         let at = |list: &str, i: usize, field: &str| {
             vec![Seg::Key(list.into()), Seg::Index(i), Seg::Key(field.into())]
         };
-        if !(d.dt > 0.0 && d.dt.is_finite()) {
-            return Err((
-                key("dt"),
-                format!("must be a positive number of seconds, got {}", d.dt),
-            ));
-        }
-        if d.iterations == 0 {
-            return Err((key("iterations"), "must be at least 1".into()));
-        }
-        if d.substeps == 0 {
-            return Err((key("substeps"), "must be at least 1".into()));
-        }
-        if d.frames == 0 {
-            return Err((key("frames"), "must be at least 1".into()));
-        }
-        if let Some(n) = d.ci_frames.filter(|&n| n == 0 || n > d.frames) {
-            return Err((
-                key("ci_frames"),
-                format!("must lie in [1, frames = {}], got {n}", d.frames),
-            ));
-        }
-        if !(d.max_speed > 0.0) {
-            return Err((key("max_speed"), "must be positive".into()));
-        }
-        if d.damping.iter().any(|c| !(*c >= 0.0 && c.is_finite())) {
-            return Err((
-                key("damping"),
-                format!("rates must be non-negative, got {:?}", d.damping),
-            ));
-        }
-        if !(d.joint_damping >= 0.0 && d.joint_damping.is_finite()) {
-            return Err((
-                key("joint_damping"),
-                format!("must be 0 or more (N m s/rad), got {}", d.joint_damping),
-            ));
-        }
-        if !(d.max_angular_speed > 0.0) {
-            return Err((key("max_angular_speed"), "must be positive".into()));
-        }
-        if !(d.contact_push_speed > 0.0) {
-            return Err((
-                key("contact_push_speed"),
-                format!(
-                    "must be a positive speed in m/s (or inf), got {}",
-                    d.contact_push_speed
-                ),
-            ));
-        }
-        if !(0.0..=1.0).contains(&d.contact_warm_start) {
-            return Err((
-                key("contact_warm_start"),
-                format!(
-                    "must be a fraction from 0 to 1, got {}",
-                    d.contact_warm_start
-                ),
-            ));
-        }
-        if !(d.contact_hertz >= 0.0 && d.contact_hertz.is_finite()) {
-            return Err((
-                key("contact_hertz"),
-                format!(
-                    "must be a frequency of 0 Hz or more, got {}",
-                    d.contact_hertz
-                ),
-            ));
-        }
-        if !(d.contact_damping_ratio >= 0.0 && d.contact_damping_ratio.is_finite()) {
-            return Err((
-                key("contact_damping_ratio"),
-                format!("must be 0 or more, got {}", d.contact_damping_ratio),
-            ));
+        check_settings(d, &[])?;
+        let mut variants: Vec<&str> = Vec::new();
+        for (i, v) in d.variant.iter().enumerate() {
+            variant::check_variant_name(&v.name, &variants)
+                .map_err(|m| (at("variant", i, "name"), m))?;
+            variants.push(&v.name);
+            let prefix = [Seg::Key("variant".into()), Seg::Index(i)];
+            check_settings(&v.applied_to(d), &prefix)?;
         }
         if let Some(k) = &d.kinematics {
             let field = |f: &str| vec![Seg::Key("kinematics".into()), Seg::Key(f.into())];
@@ -959,6 +903,89 @@ impl Scene {
         }
         Ok(lab)
     }
+}
+
+/// The scene's method settings (a variant's too, with `prefix` its path): time step, counts,
+/// damping, contact options.
+fn check_settings(d: &SceneDef, prefix: &[Seg]) -> Result<(), (Vec<Seg>, String)> {
+    let key = |k: &str| {
+        let mut path = prefix.to_vec();
+        path.push(Seg::Key(k.into()));
+        path
+    };
+    if !(d.dt > 0.0 && d.dt.is_finite()) {
+        return Err((
+            key("dt"),
+            format!("must be a positive number of seconds, got {}", d.dt),
+        ));
+    }
+    if d.iterations == 0 {
+        return Err((key("iterations"), "must be at least 1".into()));
+    }
+    if d.substeps == 0 {
+        return Err((key("substeps"), "must be at least 1".into()));
+    }
+    if d.frames == 0 {
+        return Err((key("frames"), "must be at least 1".into()));
+    }
+    if let Some(n) = d.ci_frames.filter(|&n| n == 0 || n > d.frames) {
+        return Err((
+            key("ci_frames"),
+            format!("must lie in [1, frames = {}], got {n}", d.frames),
+        ));
+    }
+    if !(d.max_speed > 0.0) {
+        return Err((key("max_speed"), "must be positive".into()));
+    }
+    if d.damping.iter().any(|c| !(*c >= 0.0 && c.is_finite())) {
+        return Err((
+            key("damping"),
+            format!("rates must be non-negative, got {:?}", d.damping),
+        ));
+    }
+    if !(d.joint_damping >= 0.0 && d.joint_damping.is_finite()) {
+        return Err((
+            key("joint_damping"),
+            format!("must be 0 or more (N m s/rad), got {}", d.joint_damping),
+        ));
+    }
+    if !(d.max_angular_speed > 0.0) {
+        return Err((key("max_angular_speed"), "must be positive".into()));
+    }
+    if !(d.contact_push_speed > 0.0) {
+        return Err((
+            key("contact_push_speed"),
+            format!(
+                "must be a positive speed in m/s (or inf), got {}",
+                d.contact_push_speed
+            ),
+        ));
+    }
+    if !(0.0..=1.0).contains(&d.contact_warm_start) {
+        return Err((
+            key("contact_warm_start"),
+            format!(
+                "must be a fraction from 0 to 1, got {}",
+                d.contact_warm_start
+            ),
+        ));
+    }
+    if !(d.contact_hertz >= 0.0 && d.contact_hertz.is_finite()) {
+        return Err((
+            key("contact_hertz"),
+            format!(
+                "must be a frequency of 0 Hz or more, got {}",
+                d.contact_hertz
+            ),
+        ));
+    }
+    if !(d.contact_damping_ratio >= 0.0 && d.contact_damping_ratio.is_finite()) {
+        return Err((
+            key("contact_damping_ratio"),
+            format!("must be 0 or more, got {}", d.contact_damping_ratio),
+        ));
+    }
+    Ok(())
 }
 
 fn check_name(name: &str, seen: &[&str]) -> Result<(), String> {
