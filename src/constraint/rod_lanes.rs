@@ -56,9 +56,8 @@ pub fn is_default_modes(row: &RodRow) -> bool {
 /// The scalar [`RodRow::solve`] one row after another.
 pub fn solve_scalar(rows: &mut [RodRow], bodies: SharedBodies) {
     for row in rows {
-        let (a, b) = crate::solver::RowBodies::bodies(row);
         // SAFETY: the batch's rows share no movable body.
-        unsafe { bodies.with_pair(a, b, |a, b| row.solve(a, b)) };
+        unsafe { bodies.with_pair(row.body_a, row.body_b, |a, b| row.solve(a, b)) };
     }
 }
 

@@ -12,13 +12,13 @@
 //! Face axes are preferred within a small tolerance, and a's faces over b's, so the choice does
 //! not flicker between nearly equal axes from one frame to the next.
 //!
-//! Feature ids ([`FeatureId`](super::narrowphase::FeatureId)): a face point names the reference face, the incident face and the
+//! Feature ids ([`FeatureId`](super::feature::FeatureId)): a face point names the reference face, the incident face and the
 //! two features whose meeting made the clipped vertex (an incident corner is where two incident
 //! edges meet; a crossing is an incident edge cut by a side plane of the reference face; a
 //! reference corner is where two side planes meet), as Box2D v3's clip ids do. An edge point
 //! names the two edge directions and which of the four parallel edges of each box supports it.
 
-use super::narrowphase::{closest_points_on_segments, Feature, FeatureId};
+use super::feature::{closest_points_on_segments, Feature, FeatureId};
 use crate::body::Body;
 use crate::math::Vec3;
 

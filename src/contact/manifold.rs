@@ -7,7 +7,7 @@
 //! the point adding the most area outside that triangle. Distances and areas are measured in
 //! the contact plane.
 //!
-//! **Persistence.** A point found again next step with the same [`FeatureId`](super::narrowphase::FeatureId) on the same body
+//! **Persistence.** A point found again next step with the same [`FeatureId`](super::feature::FeatureId) on the same body
 //! pair is the same contact, however far it moved (no distance threshold). What it carries
 //! over is the slip its friction has not yet removed: if it stuck to the end of last step, the
 //! tangential offset of its two friction anchors at the current poses becomes the offset of
@@ -16,7 +16,7 @@
 //! the old body-space anchors lets a rolling body roll: its contact point moves over the
 //! surface every step while the offset stays near zero.
 
-use super::narrowphase::Feature;
+use super::feature::Feature;
 use crate::body::Body;
 use crate::math::Vec3;
 

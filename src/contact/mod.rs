@@ -31,6 +31,7 @@
 
 pub mod box_box;
 pub mod broadphase;
+pub mod feature;
 pub mod lanes;
 pub mod manifold;
 pub mod narrowphase;
@@ -40,7 +41,7 @@ use crate::constraint::Constraint;
 use crate::math::Vec3;
 use crate::solver_body::{pair_mut, SharedSlice, SolverBody};
 use broadphase::BroadPhase;
-use narrowphase::{Feature, FeatureId};
+use feature::{Feature, FeatureId};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContactPoint {
