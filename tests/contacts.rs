@@ -848,8 +848,8 @@ fn a_spinning_stick_does_not_pass_through_a_thin_wall() {
 /// iterations it is at the bound and depends on the order contacts are solved in: 5.8 mm
 /// with the pairs sorted by body (the broad phase's order since it keeps pairs), 2.2 mm in
 /// the earlier cell order, 8.6 mm in reverse body order; 4.7 mm with half the warm start.
-/// (The issue's ten-box stack is not held: it leans 20-90 mm at these budgets, 4.4 mm only at
-/// 8 substeps of 4 iterations, still rocking at 0.14 m/s.)
+/// (The issue's ten-box stack is not held awake: it leans 17-150 mm over 10 s at these
+/// budgets; it holds when it may sleep, `a_ten_box_stack_that_may_sleep_stands_within_five_millimetres`.)
 #[test]
 fn a_ten_wide_box_pyramid_stands_within_five_millimetres() {
     for (substeps, iterations) in [(4, 5), (2, 10)] {
@@ -962,4 +962,45 @@ fn a_body_jittering_on_the_spot_sleeps_and_a_drifting_one_does_not() {
         "a box drifting at {} m/s fell asleep",
         2.4 * SLEEP_SPEED
     );
+}
+
+/// Issue 10's ten-box stack: at 8 substeps of 4 iterations with a quarter warm start and
+/// sleeping on, every box stays within 5 mm of its start for 10 s (measured 2.3 mm), because
+/// the stack falls asleep after its first 0.5 s, while it is still within a few millimetres.
+/// Awake it does not hold: the solver's corner order tilts it a little each step, and over
+/// 10 s the top drifts 17-150 mm whatever the method tried (1x20 to 8x4, warm 0 to 0.5; a
+/// probe not kept; README, Sleeping). 4 substeps of 10 iterations hold it at 4.1 mm asleep.
+#[test]
+fn a_ten_box_stack_that_may_sleep_stands_within_five_millimetres() {
+    let mut world = World::new(Settings {
+        contact_warm_start: 0.25,
+        substeps: 8,
+        iterations: 4,
+        sleep: true,
+        ..settings()
+    });
+    plane(&mut world, Quat::IDENTITY);
+    let boxes: Vec<_> = (0..10)
+        .map(|i| {
+            let start = Vec3::new(0.0, 0.25 + 0.5 * i as f32, 0.0);
+            let body = Body::new(
+                format!("box{i}"),
+                BodyKind::Dynamic,
+                Shape::Cuboid {
+                    half_extents: Vec3::splat(0.25),
+                },
+                1.0,
+            );
+            (world.add_body(body.with_pose(start, Quat::IDENTITY)), start)
+        })
+        .collect();
+    let mut worst = 0.0f32;
+    for _ in 0..600 {
+        world.step().unwrap();
+        for &(id, start) in &boxes {
+            worst = worst.max((world.body(id).position - start).length());
+        }
+    }
+    assert_eq!(world.awake_bodies, 0, "the stack is not asleep after 10 s");
+    assert!(worst < 5e-3, "a box moved {worst} m from its start");
 }
