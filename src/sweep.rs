@@ -217,15 +217,20 @@ pub fn run_one(scene: &Scene, overrides: &Overrides, repeats: u32) -> anyhow::Re
     overrides.apply(&mut scene.def);
     let def = &scene.def;
     let spine = overrides.spine.unwrap_or_default();
+    let mut label = method_label(
+        spine,
+        def.joint_flavour,
+        def.solver,
+        def.substeps,
+        def.contact_warm_start,
+        def.contact_hertz,
+    );
+    // a scene's joint damping applies to every row: say so on the chart
+    if def.joint_damping > 0.0 {
+        label += &format!(" jd{}", def.joint_damping);
+    }
     let mut row = SweepRow::new(
-        method_label(
-            spine,
-            def.joint_flavour,
-            def.solver,
-            def.substeps,
-            def.contact_warm_start,
-            def.contact_hertz,
-        ),
+        label,
         spine.to_string(),
         def.joint_flavour.to_string(),
         def.dt,
