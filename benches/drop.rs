@@ -1,7 +1,7 @@
 //! Criterion benchmarks for the contacts issue: one 20-iteration step of the 30-ragdoll drop
 //! (mid-fall, in the pile) per spine, and the broad phase plus narrow phase (`detect`) at 10,
 //! 100 and 1000 ragdolls standing on a grid, and one step of 1000 boxes resting on the floor,
-//! asleep and awake (what sleeping saves), and one step of the drop at the game method falling
+//! asleep and awake (what sleeping saves), and one step of the drop at its at_rest variant falling
 //! and settled. Run with `cargo bench --bench drop`.
 
 use criterion::{criterion_group, criterion_main, BatchSize, BenchmarkId, Criterion, Throughput};
@@ -118,32 +118,24 @@ fn sleeping(c: &mut Criterion) {
     group.finish();
 }
 
-/// The drop at the game method (4 substeps of 4 iterations, SIMD, exact joints, contacts warm
-/// 0.25 and 30 Hz) with joint damping 0.1 N m s/rad and sleeping on: one step of the falling
+/// The drop at its `at_rest` variant (4 substeps of 4 iterations, SIMD, exact joints, contacts
+/// warm 0.25 and 60 Hz, joint damping 0.1 N m s/rad, sleeping on): one step of the falling
 /// pile (at 1 s) against one of the settled pile (at 10 s, all asleep: asserted), per spine.
 /// Issue 10's target: settled at most 20% of falling.
 fn settled_against_falling(c: &mut Criterion) {
-    use rodlab::constraint::JointFlavour;
-    use rodlab::world::SolverKind;
     let scene = Scene::load(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/scenes/ragdoll_drop.toml"
     ))
+    .unwrap()
+    .variant("at_rest")
     .unwrap();
-    let mut group = c.benchmark_group("drop_game_method_step");
+    let mut group = c.benchmark_group("drop_at_rest_step");
     group.sample_size(20);
     for spine in [SpineKind::Chain3, SpineKind::Rod] {
         let mut variant = scene.clone();
         Overrides {
             spine: Some(spine),
-            sleep: Some(true),
-            solver: Some(SolverKind::Simd),
-            substeps: Some(4),
-            iterations: Some(4),
-            joint_flavour: Some(JointFlavour::Exact),
-            contact_warm_start: Some(0.25),
-            contact_hertz: Some(30.0),
-            joint_damping: Some(0.1),
             ..Default::default()
         }
         .apply(&mut variant.def);
