@@ -56,12 +56,19 @@ pub fn solve_lanes<L: Lane>(rows: &mut [ContactPoint], bodies: SharedBodies) {
     let rb = V3::<L>::from_fn(|i| rows[i].arm_b);
     let w = a.positional_inverse_mass(ra, n) + b.positional_inverse_mass(rb, n);
     let active = w.gt(zero) & (separation.lt(zero) | normal_impulse.gt(zero));
-    // soft contacts as the scalar code (zero compliance and damping: the hard projection)
-    let soft = L::from_fn(|i| rows[i].compliance) * w;
-    let damping = L::from_fn(|i| rows[i].damping);
-    let start = L::from_fn(|i| rows[i].start_separation);
-    let error = separation + soft * normal_impulse + damping * (separation - start);
-    let denominator = (L::splat(1.0) + damping) * w + soft;
+    // soft contacts as the scalar code; a batch of hard points (zero compliance and damping,
+    // the paper's projection) skips the soft terms, which would add exact zeros
+    let (error, denominator) = if rows.iter().any(|r| r.compliance != 0.0 || r.damping != 0.0) {
+        let soft = L::from_fn(|i| rows[i].compliance) * w;
+        let damping = L::from_fn(|i| rows[i].damping);
+        let start = L::from_fn(|i| rows[i].start_separation);
+        (
+            separation + soft * normal_impulse + damping * (separation - start),
+            (L::splat(1.0) + damping) * w + soft,
+        )
+    } else {
+        (separation, w)
+    };
     let total = (normal_impulse - error / denominator.max(L::splat(f32::MIN_POSITIVE))).max(zero);
     let total = active.select(total, normal_impulse);
     let lambda = total - normal_impulse;
