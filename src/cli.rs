@@ -49,6 +49,10 @@ pub enum Command {
         /// recorded as <scene>_<variant>.
         #[arg(long)]
         variant: Option<String>,
+        /// Record only the frames from this simulated time on (s; the run still starts at 0):
+        /// a smaller file of how a long run ends.
+        #[arg(long, value_parser = non_negative, default_value_t = 0.0)]
+        record_from: f32,
         #[command(flatten)]
         overrides: OverrideArgs,
         #[command(flatten)]
@@ -282,12 +286,13 @@ fn dispatch(cli: Cli, matches: &ArgMatches) -> anyhow::Result<()> {
         Some(Command::Run {
             scene,
             variant,
+            record_from,
             overrides,
             rerun,
         }) => {
             let sub = matches.subcommand_matches("run").expect("run subcommand");
             let scene = load_scene(&scene, variant.as_deref(), &(&overrides).into())?;
-            run_one(&scene, &rerun, rerun_sink_given(sub))
+            run_one(&scene, record_from, &rerun, rerun_sink_given(sub))
         }
         Some(Command::Check { scenes }) => check(&scenes),
         Some(Command::Stress { out }) => stress(&out),
@@ -660,6 +665,15 @@ pub fn load_scene(
 
 /// Runs `scene` into a recording; the recording stays readable if the run fails.
 pub fn record_scene(scene: &Scene, rec: rerun::RecordingStream) -> anyhow::Result<RunReport> {
+    record_scene_from(scene, rec, 0.0)
+}
+
+/// [`record_scene`], logging only the frames at or after the simulated time `from` (s).
+pub fn record_scene_from(
+    scene: &Scene,
+    rec: rerun::RecordingStream,
+    from: f32,
+) -> anyhow::Result<RunReport> {
     if scene.def.kinematics.is_some() {
         let (equal, unequal) = record::record_kinematics(&rec, scene)?;
         println!(
@@ -683,12 +697,42 @@ pub fn record_scene(scene: &Scene, rec: rerun::RecordingStream) -> anyhow::Resul
     }
     let mut lab = scene.build()?;
     let mut recorder = Recorder::new(rec, &lab, scene)?;
-    let mut observer = RowPrinter {
+    let mut late = FromTime {
         inner: &mut recorder,
+        from: from as f64 - 0.5 * scene.def.dt as f64,
+    };
+    let mut observer = RowPrinter {
+        inner: &mut late,
         every: scene.def.report_every,
     };
     sim::run(&mut lab, scene.def.frames, &mut observer)
         .with_context(|| format!("{}: simulation stopped", scene.path.display()))
+}
+
+/// Hands on the frames at or after the simulated time `from` (s) only; a failure always.
+struct FromTime<'a> {
+    inner: &'a mut dyn Observer,
+    from: f64,
+}
+
+impl Observer for FromTime<'_> {
+    fn begin(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()> {
+        match lab.world.time >= self.from {
+            true => self.inner.begin(lab, metrics),
+            false => Ok(()),
+        }
+    }
+
+    fn frame(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()> {
+        match lab.world.time >= self.from {
+            true => self.inner.frame(lab, metrics),
+            false => Ok(()),
+        }
+    }
+
+    fn failed(&mut self, lab: &Lab, error: &SimulationError) {
+        self.inner.failed(lab, error);
+    }
 }
 
 /// Prints one row of residuals per ragdoll every `every` frames, then hands on the frame.
@@ -732,6 +776,7 @@ impl Observer for RowPrinter<'_> {
 
 fn run_one(
     scene: &Scene,
+    record_from: f32,
     rerun_args: &rerun::clap::RerunArgs,
     sink_given: bool,
 ) -> anyhow::Result<()> {
@@ -743,7 +788,7 @@ fn run_one(
         eprintln!("recording to {}", out.display());
         (record::save_to(&out, scene)?, Default::default())
     };
-    let report = record_scene(scene, rec)?;
+    let report = record_scene_from(scene, rec, record_from)?;
     print_summary(&name, scene, &report);
     Ok(())
 }

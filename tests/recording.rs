@@ -92,6 +92,47 @@ fn recording_holds_body_poses_for_every_frame() {
         .any(|c| c.is_static() && c.entity_path().to_string() == "/world/chain3/capsules"));
 }
 
+/// `rodlab run --record-from T` records only the frames from simulated time T on (the run
+/// itself still starts at 0), with the shapes still there; the report covers the whole run.
+#[test]
+fn recording_from_a_time_keeps_only_the_later_frames() {
+    let path = temp_path("passive_bending_late.rrd");
+    let mut scene = Scene::load(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenes/passive_bending.toml"
+    ))
+    .unwrap();
+    Overrides {
+        frames: Some(40),
+        ..Default::default()
+    }
+    .apply(&mut scene.def);
+    // frame 30 is at 0.5 s
+    let report =
+        rodlab::cli::record_scene_from(&scene, record::save_to(&path, &scene).unwrap(), 0.5)
+            .unwrap();
+    assert_eq!(
+        report.total_dislocation_cm.len(),
+        40,
+        "the report covers every frame"
+    );
+    let chunks = decode(&path);
+    let expected: BTreeSet<i64> = (30..=40).collect();
+    for (entity, component) in [
+        ("world/chain3/capsules", "translations"),
+        ("metrics/dislocation_cm/chain3", "scalars"),
+    ] {
+        assert_eq!(
+            frames_with(&chunks, entity, component),
+            expected,
+            "{entity} {component}"
+        );
+    }
+    assert!(chunks
+        .iter()
+        .any(|c| c.is_static() && c.entity_path().to_string() == "/world/chain3/capsules"));
+}
+
 const EXPLODING: &str = r#"
 dt = 0.016666668
 iterations = 10
