@@ -17,6 +17,7 @@
 //! surface every step while the offset stays near zero.
 
 use super::feature::Feature;
+use super::ContactPoint;
 use crate::body::Body;
 use crate::math::Vec3;
 
@@ -82,6 +83,18 @@ pub fn carried_anchors(
     let offset = b.world_point(previous.1) - a.world_point(previous.0);
     let tangential = offset - offset.dot(normal) * normal;
     (local.0, local.1 + b.orientation.inverse() * tangential)
+}
+
+/// Friction anchors (body space) for a point that begins to stick where it is now: its
+/// body-space points, b's shifted so that the two have no tangential offset at the current
+/// poses (what a point found fresh starts with, at the poses it was found at).
+pub fn fresh_anchors(point: &ContactPoint, a: &Body, b: &Body) -> (Vec3, Vec3) {
+    let offset = b.world_point(point.local_b) - a.world_point(point.local_a);
+    let tangential = offset - offset.dot(point.normal) * point.normal;
+    (
+        point.local_a,
+        point.local_b - b.orientation.inverse() * tangential,
+    )
 }
 
 #[cfg(test)]

@@ -71,6 +71,8 @@ pub struct ContactPoint {
     anchor_b: Vec3,
     /// Whether the contact stuck (friction within the static cone) through the step.
     sticking: bool,
+    /// Whether the point has pushed this frame (or was found again with a push to carry).
+    touched: bool,
     /// Normal velocity of the points when the contact was found (m/s, negative approaching).
     approach_speed: f32,
     /// Penetration (m) this substep may leave: what the point had at the substep's start less
@@ -202,6 +204,8 @@ pub struct Contacts {
     excluded: Vec<u32>,
     excluded_start: Vec<u32>,
     excluded_for: usize,
+    /// Substeps begun since the last detection.
+    substeps_begun: u32,
 }
 
 impl Contacts {
@@ -210,6 +214,7 @@ impl Contacts {
         if self.excluded_for != constraints.len() || self.excluded_start.len() != bodies.len() + 1 {
             self.build_exclusions(bodies.len(), constraints);
         }
+        self.substeps_begun = 0;
         std::mem::swap(&mut self.points, &mut self.previous);
         // the index breaks ties: the solver reorders points by colour but keeps a pair's points
         // in the order they were found, which decides which one hands over its anchors
@@ -289,7 +294,16 @@ impl Contacts {
 
     /// Starts a substep: the accumulated impulses count one substep's pushes (the projection's
     /// `total >= 0` clamp and the friction cone are per substep, as the preview restarts from
-    /// the current pose); anchors and the sticking flag last the frame.
+    /// the current pose). A point's friction anchors last while it sticks; from the second
+    /// substep of a frame on, a point that slid in the last substep, or has not pushed yet this
+    /// frame (not yet touching), is anchored afresh where it is now. Static
+    /// friction pulls the anchors back together, so anchors kept through the substeps before a
+    /// landing had it pull back, within one substep, how far the body had moved along the
+    /// surface since the frame began: a box thrown down onto a rough floor was thrown back at
+    /// 0.6 m/s (`a_box_thrown_onto_a_rough_floor_is_not_thrown_back`), and limbs landing in the
+    /// 1000-ragdoll rain were spun about their own axis (the axis of least inertia) up to
+    /// 700 rad/s, past the explosion bound. The first substep keeps what detection set (fresh
+    /// anchors, or a held point's carried ones), so one substep a frame is the paper's method.
     ///
     /// Deep overlap is pushed out at no more than `push_speed` (m/s, Box2D's
     /// `maxContactPushSpeed`): a point that starts the substep penetrating by `d` must end it
@@ -301,6 +315,8 @@ impl Contacts {
     /// Soft contacts take their per-substep constants here (see [`Softness`]).
     pub fn begin_substep(&mut self, bodies: &[Body], h: f32, push_speed: f32, soft: Softness) {
         let (compliance, damping) = soft.substep_constants(h);
+        let first = self.substeps_begun == 0;
+        self.substeps_begun += 1;
         let start = |point: &mut ContactPoint| {
             // the separation at the substep's start, read only when the push cap or damping
             // needs it (the paper's contacts use neither)
@@ -317,6 +333,13 @@ impl Contacts {
                 (Some(s), true) => s + point.allowed_penetration,
                 _ => 0.0,
             };
+            // re-anchor a point that slid, or that has not touched yet this frame
+            point.touched |= point.normal_impulse > 0.0;
+            if !first && (!point.touched || !point.sticking) {
+                let (a, b) = (&bodies[point.body_a.index()], &bodies[point.body_b.index()]);
+                (point.anchor_a, point.anchor_b) = manifold::fresh_anchors(point, a, b);
+                point.sticking = true;
+            }
             point.warm_impulse = point.normal_impulse;
             point.normal_impulse = 0.0;
             point.friction_impulse = 0.0;
@@ -551,6 +574,7 @@ impl PairContext<'_> {
                     anchor_a,
                     anchor_b,
                     sticking: true,
+                    touched: false,
                     static_friction,
                     dynamic_friction,
                     restitution,
