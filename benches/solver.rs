@@ -1,22 +1,27 @@
-//! Criterion benchmarks: ns per constraint solve, scalar and SIMD (W = 4 and W = 8), for
-//! ball-and-socket joints (cheap, exact, exact with limits) and the rod (bend, twist, curve and
-//! length in one function), 64 independent constraints a batch; then one passive-bending step
-//! per spine. After criterion's report, a summary table with the rod/cheap ratio per solver.
+//! Criterion benchmarks: ns per constraint solve, scalar and SIMD (W = 4 and W = 8, from lanes
+//! packed as the SIMD solver packs them once a substep), for ball-and-socket joints (cheap,
+//! exact, exact with limits), the rod (bend, twist, curve and length in one function) and
+//! contact points, 64 independent constraints a batch; then one passive-bending step per
+//! spine. After criterion's report, a summary table with the cost of packing and the rod/cheap
+//! ratio per solver.
 //! Run with `cargo bench --bench solver`.
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
 use rodlab::body::{Body, BodyId, BodyKind};
-use rodlab::constraint::{
-    ball_socket_lanes, rod_lanes, AngularLimit, BallSocket, JointFlavour, JointRow, Rod, RodRow,
-};
+use rodlab::constraint::ball_socket_lanes::JointLanes;
+use rodlab::constraint::rod_lanes::RodLanes;
+use rodlab::constraint::{AngularLimit, BallSocket, JointFlavour, JointRow, Rod, RodRow};
+use rodlab::contact::lanes::ContactLanes;
+use rodlab::contact::{ContactPoint, Contacts, Softness};
 use rodlab::math::{Quat, Vec3};
 use rodlab::ragdoll::SpineKind;
 use rodlab::scene::Scene;
 use rodlab::shape::{Axis, Shape};
 use rodlab::sim::{self, NoObserver, Overrides};
 use rodlab::solver::body::{pair_mut, SharedBodies, SolverBody};
-use rodlab::solver::RowBodies;
+use rodlab::solver::Row;
 use std::time::Instant;
+use wide::{f32x16, f32x4, f32x8};
 
 const COUNT: usize = 64;
 
@@ -95,106 +100,214 @@ fn perturbed_rods() -> (Vec<SolverBody>, Vec<RodRow>) {
     (bodies.iter().map(SolverBody::from_body).collect(), rows)
 }
 
+/// `COUNT` independent contact points: pairs of crossing capsules (limb-sized, of different
+/// masses), each pair pressed 1 cm into the other and sliding a little, found by the narrow
+/// phase as the solver finds them, then a first iteration run so every point has pushed and
+/// its friction works (sticking and sliding lanes).
+fn pressed_contacts() -> (Vec<SolverBody>, Vec<ContactPoint>) {
+    let mut bodies = Vec::new();
+    for i in 0..COUNT {
+        let x = 2.0 * i as f32;
+        let wobble = (i as f32 * 1.7).sin();
+        let lower = capsule(format!("l{i}"), 4.0 + wobble, 0.05).with_pose(
+            Vec3::new(x, 0.0, 0.0),
+            Quat::from_rotation_z(std::f32::consts::FRAC_PI_2),
+        );
+        let mut upper = capsule(format!("u{i}"), 2.0, 0.04).with_pose(
+            Vec3::new(x + 0.01 * wobble, 0.08, 0.0),
+            Quat::from_rotation_x(std::f32::consts::FRAC_PI_2 + 0.2 * wobble),
+        );
+        upper.linear_velocity = Vec3::new(0.3 * wobble, -0.5, 0.2);
+        upper.static_friction = 0.6 + 0.2 * wobble;
+        upper.dynamic_friction = 0.4 + 0.1 * wobble;
+        bodies.push(lower);
+        bodies.push(upper);
+    }
+    let mut contacts = Contacts::default();
+    contacts.detect(&bodies, &[], 1.0 / 60.0, 0.02);
+    contacts.begin_substep(&bodies, 1.0 / 60.0, f32::INFINITY, Softness::default());
+    let mut points = contacts.points.clone();
+    assert_eq!(points.len(), COUNT, "one point per crossing pair");
+    let mut solver: Vec<SolverBody> = bodies.iter().map(SolverBody::from_body).collect();
+    for (i, body) in solver.iter_mut().enumerate().filter(|(i, _)| i % 2 == 1) {
+        let wobble = (i as f32 * 0.9).sin();
+        body.position += Vec3::new(0.01 * wobble, -0.01, 0.005);
+    }
+    for p in &mut points {
+        let (a, b) = pair_mut(&mut solver, p.body_a.index(), p.body_b.index());
+        p.solve(a, b);
+    }
+    (solver, points)
+}
+
 #[derive(Clone, Copy, PartialEq)]
 enum Width {
     Scalar,
     W4,
     W8,
+    W16,
 }
 
-const WIDTHS: [(&str, Width); 3] = [
+const WIDTHS: [(&str, Width); 4] = [
     ("scalar", Width::Scalar),
     ("simd4", Width::W4),
     ("simd8", Width::W8),
+    ("simd16", Width::W16),
 ];
 
-/// Solves `rows` once: one by one with the scalar kernel, or W at a time with a lane kernel.
-fn solve_rows<T: RowBodies>(
-    rows: &mut [T],
-    bodies: &mut [SolverBody],
-    width: Width,
-    scalar: fn(&T, &mut SolverBody, &mut SolverBody),
-    lanes: [fn(&mut [T], SharedBodies); 2],
-) {
-    let (kernel, w) = match width {
-        Width::Scalar => {
-            for row in rows.iter() {
-                let (a, b) = row.bodies();
-                let (a, b) = pair_mut(bodies, a as usize, b as usize);
-                scalar(row, a, b);
-            }
-            return;
-        }
-        Width::W4 => (lanes[0], 4),
-        Width::W8 => (lanes[1], 8),
-    };
-    let shared = SharedBodies::new(bodies);
-    rows.chunks_exact_mut(w).for_each(|c| kernel(c, shared));
+/// One kind's rows and, as the SIMD solver keeps them, packed into 4, 8 and 16 lanes.
+#[derive(Clone)]
+struct Packed<T, L4, L8, L16> {
+    bodies: Vec<SolverBody>,
+    rows: Vec<T>,
+    w4: Vec<L4>,
+    w8: Vec<L8>,
+    w16: Vec<L16>,
 }
+
+impl<T: Clone, L4, L8, L16> Packed<T, L4, L8, L16> {
+    fn new(
+        (bodies, rows): (Vec<SolverBody>, Vec<T>),
+        pack4: fn(&[T]) -> L4,
+        pack8: fn(&[T]) -> L8,
+        pack16: fn(&[T]) -> L16,
+    ) -> Self {
+        let w4 = rows.chunks_exact(4).map(pack4).collect();
+        let w8 = rows.chunks_exact(8).map(pack8).collect();
+        let w16 = rows.chunks_exact(16).map(pack16).collect();
+        Packed {
+            bodies,
+            rows,
+            w4,
+            w8,
+            w16,
+        }
+    }
+
+    /// One solve of every row: scalar from the rows, or from the packed lanes.
+    fn solve(
+        &mut self,
+        width: Width,
+        scalar: fn(&mut T, &mut SolverBody, &mut SolverBody),
+        lanes4: fn(&mut L4, SharedBodies),
+        lanes8: fn(&mut L8, SharedBodies),
+        lanes16: fn(&mut L16, SharedBodies),
+    ) where
+        T: Row,
+    {
+        let shared = SharedBodies::new(&mut self.bodies);
+        match width {
+            Width::Scalar => {
+                for row in &mut self.rows {
+                    let (a, b) = row.bodies();
+                    // SAFETY: the benchmark's rows share no body, and one thread runs them.
+                    unsafe { shared.with_pair(a, b, |a, b| scalar(row, a, b)) };
+                }
+            }
+            Width::W4 => self.w4.iter_mut().for_each(|l| lanes4(l, shared)),
+            Width::W8 => self.w8.iter_mut().for_each(|l| lanes8(l, shared)),
+            Width::W16 => self.w16.iter_mut().for_each(|l| lanes16(l, shared)),
+        }
+    }
+}
+
+type Joints = Packed<JointRow, JointLanes<f32x4>, JointLanes<f32x8>, JointLanes<f32x16>>;
+type Rods = Packed<RodRow, RodLanes<f32x4>, RodLanes<f32x8>, RodLanes<f32x16>>;
+type ContactPoints =
+    Packed<ContactPoint, ContactLanes<f32x4>, ContactLanes<f32x8>, ContactLanes<f32x16>>;
 
 /// One benchmarked batch: `COUNT` independent constraints of one kind and their bodies.
 #[derive(Clone)]
 enum Batch {
-    Joints(Vec<SolverBody>, Vec<JointRow>),
-    Rods(Vec<SolverBody>, Vec<RodRow>),
+    Joints(Joints),
+    Rods(Rods),
+    Contacts(ContactPoints),
+}
+
+/// The benchmarked kinds.
+#[derive(Clone, Copy)]
+enum Case {
+    Joint(JointFlavour, bool),
+    Rod,
+    Contact,
 }
 
 impl Batch {
-    /// Joints of a flavour, with or without limits; `None`: rods.
-    fn new(joint: Option<(JointFlavour, bool)>) -> Self {
-        match joint {
-            Some((flavour, limits)) => {
-                let (bodies, rows) = dislocated_joints(flavour, limits);
-                Batch::Joints(bodies, rows)
-            }
-            None => {
-                let (bodies, rows) = perturbed_rods();
-                Batch::Rods(bodies, rows)
-            }
+    fn new(case: Case) -> Self {
+        match case {
+            Case::Joint(flavour, limits) => Batch::Joints(Packed::new(
+                dislocated_joints(flavour, limits),
+                JointLanes::pack,
+                JointLanes::pack,
+                JointLanes::pack,
+            )),
+            Case::Rod => Batch::Rods(Packed::new(
+                perturbed_rods(),
+                RodLanes::pack,
+                RodLanes::pack,
+                RodLanes::pack,
+            )),
+            Case::Contact => Batch::Contacts(Packed::new(
+                pressed_contacts(),
+                ContactLanes::pack,
+                ContactLanes::pack,
+                ContactLanes::pack,
+            )),
         }
     }
 
     fn solve(&mut self, width: Width) {
         match self {
-            Batch::Joints(bodies, rows) => solve_rows(
-                rows,
-                bodies,
+            Batch::Joints(p) => p.solve(
                 width,
-                JointRow::solve,
-                [
-                    ball_socket_lanes::solve_lanes::<wide::f32x4>,
-                    ball_socket_lanes::solve_lanes::<wide::f32x8>,
-                ],
+                |r, a, b| r.solve(a, b),
+                |l, b| l.solve(b),
+                |l, b| l.solve(b),
+                |l, b| l.solve(b),
             ),
-            Batch::Rods(bodies, rows) => solve_rows(
-                rows,
-                bodies,
+            Batch::Rods(p) => p.solve(
                 width,
-                RodRow::solve,
-                [
-                    rod_lanes::solve_lanes::<wide::f32x4>,
-                    rod_lanes::solve_lanes::<wide::f32x8>,
-                ],
+                |r, a, b| r.solve(a, b),
+                |l, b| l.solve(b),
+                |l, b| l.solve(b),
+                |l, b| l.solve(b),
             ),
+            Batch::Contacts(p) => p.solve(
+                width,
+                |r, a, b| r.solve(a, b),
+                |l, b| l.solve(b),
+                |l, b| l.solve(b),
+                |l, b| l.solve(b),
+            ),
+        }
+    }
+
+    /// Packs every row into 8 lanes again (what the SIMD solver does once a substep).
+    fn pack8(&mut self) {
+        match self {
+            Batch::Joints(p) => p.w8 = p.rows.chunks_exact(8).map(JointLanes::pack).collect(),
+            Batch::Rods(p) => p.w8 = p.rows.chunks_exact(8).map(RodLanes::pack).collect(),
+            Batch::Contacts(p) => p.w8 = p.rows.chunks_exact(8).map(ContactLanes::pack).collect(),
         }
     }
 }
 
-/// The benchmarked kinds: a joint flavour and whether it has limits, or the rod.
-fn cases() -> Vec<(&'static str, Option<(JointFlavour, bool)>)> {
+/// The benchmarked kinds, by label.
+fn cases() -> Vec<(&'static str, Case)> {
     vec![
-        ("cheap", Some((JointFlavour::Cheap, false))),
-        ("exact", Some((JointFlavour::Exact, false))),
-        ("exact_with_limits", Some((JointFlavour::Exact, true))),
-        ("rod", None),
+        ("cheap", Case::Joint(JointFlavour::Cheap, false)),
+        ("exact", Case::Joint(JointFlavour::Exact, false)),
+        ("exact_with_limits", Case::Joint(JointFlavour::Exact, true)),
+        ("rod", Case::Rod),
+        ("contact", Case::Contact),
     ]
 }
 
 fn constraint_solves(c: &mut Criterion) {
     let mut group = c.benchmark_group("constraint_solve");
     group.throughput(Throughput::Elements(COUNT as u64));
-    for (label, joint) in cases() {
-        let batch = Batch::new(joint);
+    for (label, case) in cases() {
+        let batch = Batch::new(case);
         for (solver, width) in WIDTHS {
             group.bench_function(format!("{label}/{solver}"), |b| {
                 b.iter_batched_ref(
@@ -214,49 +327,60 @@ fn ns_per_solve(mut round: impl FnMut() -> std::time::Duration) -> f64 {
     (0..2000).map(|_| round()).min().unwrap().as_nanos() as f64 / COUNT as f64
 }
 
-/// The side-by-side table the issue asks for: scalar and SIMD per kind, and rod/cheap.
+/// The side-by-side table the issue asks for: scalar and SIMD per kind (a solve from packed
+/// lanes, as every iteration of the SIMD solver runs it), what packing costs once a substep,
+/// and rod/cheap.
 fn summary() {
     println!(
         "\nns per constraint (fastest of 2000 rounds of {COUNT}), machine: {}",
         rodlab::sweep::machine_name()
     );
     println!(
-        "{:<20} {:>8} {:>8} {:>8}",
-        "kind", "scalar", "simd4", "simd8"
+        "{:<20} {:>8} {:>8} {:>8} {:>8} {:>8}",
+        "kind", "scalar", "simd4", "simd8", "simd16", "pack8"
     );
     let mut table = Vec::new();
-    for (label, joint) in cases() {
-        let batch = Batch::new(joint);
-        let mut row = Vec::new();
-        for (_, width) in WIDTHS {
-            row.push(ns_per_solve(|| {
+    for (label, case) in cases() {
+        let batch = Batch::new(case);
+        let timed = |f: &dyn Fn(&mut Batch)| {
+            ns_per_solve(|| {
                 let mut fresh = batch.clone();
                 let start = Instant::now();
-                fresh.solve(width);
+                f(&mut fresh);
                 let time = start.elapsed();
                 std::hint::black_box(&fresh);
                 time
-            }));
-        }
+            })
+        };
+        let mut row: Vec<f64> = WIDTHS
+            .iter()
+            .map(|&(_, w)| timed(&|b| b.solve(w)))
+            .collect();
+        row.push(timed(&|b| b.pack8()));
         println!(
-            "{:<20} {:>8.1} {:>8.1} {:>8.1}",
-            label, row[0], row[1], row[2]
+            "{:<20} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1}",
+            label, row[0], row[1], row[2], row[3], row[4]
         );
         table.push(row);
     }
     let (cheap, rod) = (&table[0], &table[3]);
     println!(
-        "rod/cheap: scalar {:.2}, simd4 {:.2}, simd8 {:.2} (paper §7: 60/20 = 3)",
+        "rod/cheap: scalar {:.2}, simd4 {:.2}, simd8 {:.2}, simd16 {:.2} (paper §7: 60/20 = 3)",
         rod[0] / cheap[0],
         rod[1] / cheap[1],
-        rod[2] / cheap[2]
+        rod[2] / cheap[2],
+        rod[3] / cheap[3]
     );
+    let speedup: Vec<String> = (cases().iter().zip(&table))
+        .map(|((label, _), t)| {
+            let x = |i: usize| t[0] / t[i];
+            format!("{label} {:.2}x/{:.2}x/{:.2}x", x(1), x(2), x(3))
+        })
+        .collect();
     println!(
-        "simd speed-up over scalar: cheap {:.2}x/{:.2}x, exact {:.2}x/{:.2}x, limits {:.2}x/{:.2}x, rod {:.2}x/{:.2}x (W=4/W=8)\n",
-        table[0][0] / table[0][1], table[0][0] / table[0][2],
-        table[1][0] / table[1][1], table[1][0] / table[1][2],
-        table[2][0] / table[2][1], table[2][0] / table[2][2],
-        table[3][0] / table[3][1], table[3][0] / table[3][2],
+        "simd speed-up over scalar (W=4/8/16): {}; pack8 is paid once a substep, the solve \
+         every iteration\n",
+        speedup.join(", ")
     );
 }
 

@@ -11,8 +11,30 @@ use crate::math::{Quat, Vec3};
 use crate::solver_body::SharedBodies;
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Sub};
 
-/// The widest lane type's width (`wide::f32x8`); arrays of per-lane data are this long.
-pub const MAX_LANES: usize = 8;
+/// The widest lane type's width (`wide::f32x16`); arrays of per-lane data are this long.
+pub const MAX_LANES: usize = 16;
+
+/// The solver's lane type, chosen by measurement (`benches/solver.rs`): `f32x16` where the build
+/// has AVX-512, `f32x8` where it has AVX, else `f32x4`. The kernels are bound by their chains of
+/// dependent operations more than by their instruction count, so more independent lanes in
+/// flight pay: from packed lanes, 16 lanes solve a rod in 0.64 of the time 8 lanes take on the
+/// development machine (AMD EPYC, AVX-512). Without AVX an `f32x8` is two 4-wide halves and
+/// measured no faster than 4 lanes.
+#[cfg(target_feature = "avx512f")]
+pub type Wide = wide::f32x16;
+#[cfg(all(target_feature = "avx", not(target_feature = "avx512f")))]
+pub type Wide = wide::f32x8;
+#[cfg(not(target_feature = "avx"))]
+pub type Wide = wide::f32x4;
+
+/// Row `i` of a batch of one to `W` rows: lanes past the last row repeat the first. A repeated
+/// lane computes exactly what the first lane computes (same row, same bodies), so writing its
+/// bodies back twice writes the same values; a colour's last, partial batch is then solved in
+/// lanes too, instead of row by row.
+#[inline(always)]
+pub fn padded<T>(rows: &[T], i: usize) -> &T {
+    &rows[if i < rows.len() { i } else { 0 }]
+}
 
 /// Groups of four floats of `W` records turned into four lanes, and back: the transpose that
 /// gathers bodies into lanes (one SSE shuffle network for W = 4).
@@ -188,6 +210,38 @@ macro_rules! impl_lane {
 
 impl_lane!(wide::f32x4, 4);
 impl_lane!(wide::f32x8, 8);
+impl_lane!(wide::f32x16, 16);
+
+impl Transpose4 for wide::f32x16 {
+    #[inline(always)]
+    fn transpose4(rows: [&[f32; 4]; MAX_LANES]) -> [Self; 4] {
+        let part = |k: usize| -> [wide::f32x4; 4] {
+            Transpose4::transpose4(std::array::from_fn(|i| rows[(i + 4 * k) % MAX_LANES]))
+        };
+        let parts = [part(0), part(1), part(2), part(3)];
+        std::array::from_fn(|j| {
+            let mut a = [0.0f32; 16];
+            for k in 0..4 {
+                a[4 * k..4 * k + 4].copy_from_slice(&parts[k][j].to_array());
+            }
+            wide::f32x16::new(a)
+        })
+    }
+    #[inline(always)]
+    fn untranspose4(cols: [Self; 4]) -> [[f32; 4]; MAX_LANES] {
+        let cols = cols.map(|c| c.to_array());
+        let mut out = [[0.0; 4]; MAX_LANES];
+        for k in 0..4 {
+            let quarter: [wide::f32x4; 4] = std::array::from_fn(|j| {
+                let c = &cols[j];
+                wide::f32x4::new([c[4 * k], c[4 * k + 1], c[4 * k + 2], c[4 * k + 3]])
+            });
+            let t = <wide::f32x4 as Transpose4>::untranspose4(quarter);
+            out[4 * k..4 * k + 4].copy_from_slice(&t[..4]);
+        }
+        out
+    }
+}
 
 /// `Vec3` with one lane per constraint.
 #[derive(Clone, Copy, Debug)]

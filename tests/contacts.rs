@@ -1015,12 +1015,20 @@ fn thrown_box(velocity: Vec3, substeps: u32, height: f32) -> Vec<f32> {
     });
     plane(&mut world, Quat::IDENTITY);
     let half = Vec3::new(0.2, 0.1, 0.15);
-    let mut body = Body::new("box", BodyKind::Dynamic, Shape::Cuboid { half_extents: half }, 5.0)
-        .with_pose(Vec3::new(0.0, half.y + height, 0.0), Quat::IDENTITY);
+    let mut body = Body::new(
+        "box",
+        BodyKind::Dynamic,
+        Shape::Cuboid { half_extents: half },
+        5.0,
+    )
+    .with_pose(Vec3::new(0.0, half.y + height, 0.0), Quat::IDENTITY);
     body.linear_velocity = velocity;
     (body.static_friction, body.dynamic_friction) = (1.0, 0.9);
     let id = world.add_body(body);
-    (world.bodies[0].static_friction, world.bodies[0].dynamic_friction) = (1.0, 0.9);
+    (
+        world.bodies[0].static_friction,
+        world.bodies[0].dynamic_friction,
+    ) = (1.0, 0.9);
     (0..30)
         .map(|_| {
             world.step().unwrap();
@@ -1060,12 +1068,20 @@ fn sliding_box(v0: f32, mu_d: f32, substeps: u32) -> (f32, f32, f32) {
     });
     plane(&mut world, Quat::IDENTITY);
     let half = Vec3::new(0.2, 0.1, 0.15);
-    let mut body = Body::new("box", BodyKind::Dynamic, Shape::Cuboid { half_extents: half }, 5.0)
-        .with_pose(Vec3::new(0.0, half.y, 0.0), Quat::IDENTITY);
+    let mut body = Body::new(
+        "box",
+        BodyKind::Dynamic,
+        Shape::Cuboid { half_extents: half },
+        5.0,
+    )
+    .with_pose(Vec3::new(0.0, half.y, 0.0), Quat::IDENTITY);
     body.linear_velocity = Vec3::new(v0, 0.0, 0.0);
     (body.static_friction, body.dynamic_friction) = (mu_d + 0.1, mu_d);
     let id = world.add_body(body);
-    (world.bodies[0].static_friction, world.bodies[0].dynamic_friction) = (mu_d + 0.1, mu_d);
+    (
+        world.bodies[0].static_friction,
+        world.bodies[0].dynamic_friction,
+    ) = (mu_d + 0.1, mu_d);
     let (mut farthest, mut backward) = (0.0f32, 0.0f32);
     for _ in 0..90 {
         world.step().unwrap();
@@ -1091,7 +1107,14 @@ fn a_sliding_box_stops_where_coulomb_friction_stops_it() {
             (farthest - distance).abs() < 0.10 * distance,
             "{substeps} substeps: slid {farthest} m, Coulomb's {distance} m"
         );
-        assert!(backward < 0.01, "{substeps} substeps: slid back at {backward} m/s");
-        assert!(farthest - end < 1e-3, "{substeps} substeps: came back {} m", farthest - end);
+        assert!(
+            backward < 0.01,
+            "{substeps} substeps: slid back at {backward} m/s"
+        );
+        assert!(
+            farthest - end < 1e-3,
+            "{substeps} substeps: came back {} m",
+            farthest - end
+        );
     }
 }

@@ -1,5 +1,5 @@
-//! Contact points W at a time (`contact::lanes`) against the scalar `ContactPoint::solve`: the
-//! same bodies after one projection to rounding, for points that penetrate and slide (normal
+//! Contact points W at a time (`contact::lanes`, W = 4, 8, 16, and batches padded to W) against
+//! the scalar `ContactPoint::solve`: the same bodies after one projection to rounding, for points that penetrate and slide (normal
 //! push and friction, sticking and sliding), points still apart, and a static floor shared by
 //! every lane; hard and soft (XPBD compliance and damping).
 
@@ -65,15 +65,17 @@ fn compare(slide: f32, soft: Softness) {
         // the floor is immovable: the scalar solve leaves it as it was
         *b = fb;
     }
-    for width in [4usize, 8] {
+    // (lanes, points a batch): 16 lanes take the eight points as one padded batch, and so do
+    // 8 lanes given batches of five and three
+    for (width, batch) in [(4usize, 4usize), (8, 8), (16, 8), (8, 5)] {
         let mut lanes_bodies = bodies.clone();
         let mut lanes_points = points.clone();
         let shared = SharedBodies::new(&mut lanes_bodies);
-        for chunk in lanes_points.chunks_exact_mut(width) {
-            if width == 4 {
-                lanes::solve_lanes::<wide::f32x4>(chunk, shared);
-            } else {
-                lanes::solve_lanes::<wide::f32x8>(chunk, shared);
+        for chunk in lanes_points.chunks_mut(batch) {
+            match width {
+                4 => lanes::solve_lanes::<wide::f32x4>(chunk, shared),
+                8 => lanes::solve_lanes::<wide::f32x8>(chunk, shared),
+                _ => lanes::solve_lanes::<wide::f32x16>(chunk, shared),
             }
         }
         let (mut position, mut orientation) = (0.0f32, 0.0f32);
@@ -86,7 +88,7 @@ fn compare(slide: f32, soft: Softness) {
             .zip(&scalar)
             .map(|(x, y)| x.position.distance(y.position))
             .fold(0.0, f32::max);
-        println!("slide {slide}, W={width}: position {position:.1e} m, orientation {orientation:.1e} (the solve moved bodies up to {moved:.3} m)");
+        println!("slide {slide}, W={width} ({batch} a batch): position {position:.1e} m, orientation {orientation:.1e} (the solve moved bodies up to {moved:.3} m)");
         assert!(moved > 1e-3, "the setup must make the solve work");
         assert!(position < 1e-5, "W={width}: positions {position} m apart");
         assert!(

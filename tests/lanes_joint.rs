@@ -4,12 +4,12 @@
 //! Cases: cheap and exact flavours (pure and mixed batches), with and without limits and
 //! springs, lanes whose limits are violated (swing, twist on both sides, twist unwrapped across
 //! +-pi), lanes at rest, an antiparallel swing (the fallback axis), and static bodies shared
-//! across lanes. W = 4 (`solve_batch`, `wide::f32x4`) and W = 8 (`solve_lanes::<f32x8>`).
+//! across lanes. W = 4 (`solve_lanes::<f32x4>`) and W = 8 (`solve_lanes::<f32x8>`).
 //!
 //! `timing` (ignored) prints ns per joint for scalar, W=4 and W=8, cheap and exact:
 //! `cargo test --release --test lanes_joint -- --ignored --nocapture timing`.
 
-use rodlab::constraint::ball_socket_lanes::{solve_batch, solve_lanes};
+use rodlab::constraint::ball_socket_lanes::solve_lanes;
 use rodlab::constraint::{AngularLimit, AngularSpring, JointFlavour, JointRow};
 use rodlab::math::{quat_from_rotation_vector, rotate_by_small, Mat3, Quat, Vec3};
 use rodlab::solver::body::{SharedBodies, SolverBody};
@@ -322,10 +322,13 @@ const POSITION_TOL: f32 = 1e-5;
 const ORIENTATION_TOL: f32 = 1e-4;
 
 fn lanes4(rows: &mut [JointRow], bodies: SharedBodies) {
-    solve_batch(rows, bodies)
+    solve_lanes::<wide::f32x4>(rows, bodies)
 }
 fn lanes8(rows: &mut [JointRow], bodies: SharedBodies) {
     solve_lanes::<wide::f32x8>(rows, bodies)
+}
+fn lanes16(rows: &mut [JointRow], bodies: SharedBodies) {
+    solve_lanes::<wide::f32x16>(rows, bodies)
 }
 
 const ALL: [Case; 7] = [
@@ -389,6 +392,21 @@ fn eight_lanes_match_scalar() {
     sweep(8, lanes8, true);
 }
 
+#[test]
+fn sixteen_lanes_match_scalar() {
+    sweep(16, lanes16, false);
+    sweep(16, lanes16, true);
+}
+
+/// A colour's last batch has fewer rows than lanes: the empty lanes repeat the first row, and
+/// the rows come out as the scalar solve leaves them.
+#[test]
+fn padded_batches_match_scalar() {
+    sweep(11, lanes16, true);
+    sweep(5, lanes8, false);
+    sweep(1, lanes8, false);
+}
+
 /// The lanes at rest stay exactly where they are; the antiparallel hinge is corrected.
 #[test]
 fn rest_lanes_do_not_move_and_fallback_axis_works() {
@@ -401,7 +419,7 @@ fn rest_lanes_do_not_move_and_fallback_axis_works() {
     );
     let mut lanes = bodies.clone();
     let mut lane_rows = rows.clone();
-    solve_batch(&mut lane_rows, SharedBodies::new(&mut lanes));
+    solve_lanes::<wide::f32x4>(&mut lane_rows, SharedBodies::new(&mut lanes));
     for (row, case) in rows.iter().zip([
         Case::Rest,
         Case::Antiparallel,
@@ -496,7 +514,7 @@ fn timing() {
                         }
                         4 => lane_rows
                             .chunks_exact_mut(4)
-                            .for_each(|c| solve_batch(c, shared)),
+                            .for_each(|c| solve_lanes::<wide::f32x4>(c, shared)),
                         _ => lane_rows
                             .chunks_exact_mut(8)
                             .for_each(|c| solve_lanes::<wide::f32x8>(c, shared)),

@@ -152,10 +152,12 @@ fn scalar_pass(bodies: &mut [SolverBody], rows: &mut [RodRow]) {
 
 fn lane_pass(bodies: &mut [SolverBody], rows: &mut [RodRow], w: usize) {
     let shared = SharedBodies::new(bodies);
-    for batch in rows.chunks_exact_mut(w) {
+    // 16 lanes take the rods in batches padded to 16 (fewer rods than lanes)
+    for batch in rows.chunks_mut(w) {
         match w {
             4 => solve_batch(batch, shared),
             8 => solve_lanes::<wide::f32x8>(batch, shared),
+            16 => solve_lanes::<wide::f32x16>(batch, shared),
             _ => unreachable!(),
         }
     }
@@ -261,7 +263,7 @@ fn repeated_batches_converge_like_scalar() {
     let (start, rows) = rods(1);
     let initial = errors(&start, &rows);
     let scalar = errors_after(1, 20);
-    for w in [4, 8] {
+    for w in [4, 8, 16] {
         let lanes = errors_after(w, 20);
         for (k, (s, l)) in scalar.iter().zip(&lanes).enumerate() {
             println!("W={w} rod {k}: after 20 solves curve {:.2e} rad, length {:.2e} m (scalar {:.2e}, {:.2e})", l.0, l.1, s.0, s.1);

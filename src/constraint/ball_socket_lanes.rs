@@ -15,144 +15,214 @@
 //! not normalise (glam's `try_normalize`) falls back to glam's `any_orthonormal_vector`.
 
 use super::{JointFlavour, JointRow};
-use crate::lanes::{BodyLanes, Lane, SymM3, Q, V3};
+use crate::lanes::{padded, BodyLanes, Lane, SymM3, MAX_LANES, Q, V3};
 use crate::math::Quat;
 use crate::solver_body::SharedBodies;
 use std::f32::consts::{PI, TAU};
 
-/// Solves `rows` (4 or 8 rows of one colour, which share no movable body, as
-/// [`crate::solver::SIMD_WIDTH`] gives them) in `wide::f32x4` or `wide::f32x8` lanes.
-pub fn solve_batch(rows: &mut [JointRow], bodies: SharedBodies) {
-    match rows.len() {
-        8 => solve_lanes::<wide::f32x8>(rows, bodies),
-        _ => solve_lanes::<wide::f32x4>(rows, bodies),
-    }
-}
-
-/// Solves `L::W` rows sharing no movable body at once: gather, spring, limits, point, scatter.
+/// Solves `L::W` rows sharing no movable body at once: packed, then one projection (the solver
+/// packs once a substep and solves the packed batch every iteration).
 pub fn solve_lanes<L: Lane>(rows: &mut [JointRow], bodies: SharedBodies) {
-    assert_eq!(rows.len(), L::W, "a batch is exactly one row per lane");
-    let mut index_a = [0u32; crate::lanes::MAX_LANES];
-    let mut index_b = [0u32; crate::lanes::MAX_LANES];
-    for (i, row) in rows.iter().enumerate() {
-        debug_assert_ne!(
-            row.body_a, row.body_b,
-            "a constraint needs two distinct bodies"
-        );
-        index_a[i] = row.body_a;
-        index_b[i] = row.body_b;
-    }
-    let (index_a, index_b) = (&index_a[..L::W], &index_b[..L::W]);
-    // SAFETY: the rows of a batch share no movable body, and no other thread touches them
-    // (the caller's colouring); immovable bodies are only read.
-    let (mut a, mut b) = unsafe {
-        (
-            BodyLanes::<L>::gather(bodies, index_a),
-            BodyLanes::<L>::gather(bodies, index_b),
-        )
-    };
-    solve_bodies(rows, &mut a, &mut b);
-    // SAFETY: as above; scatter skips immovable bodies, which may repeat across lanes.
-    unsafe {
-        a.scatter(bodies, index_a);
-        b.scatter(bodies, index_b);
-    }
+    JointLanes::<L>::pack(rows).solve(bodies);
 }
 
-/// The kernel on gathered bodies: one projection of each lane's joint.
-#[inline(always)]
-fn solve_bodies<L: Lane>(rows: &[JointRow], a: &mut BodyLanes<L>, b: &mut BodyLanes<L>) {
-    let movable_a = movable(a);
-    let movable_b = movable(b);
+/// The spring part of `L::W` rows: relaxation 0 (no correction) where a row has none.
+#[derive(Clone, Copy, Debug)]
+struct SpringLanes<L> {
+    relaxation: L,
+    rest: Q<L>,
+}
 
-    // Spring: remove `relaxation` of the rotation q_a q_rest q_b^-1.
-    if rows.iter().any(|r| r.spring.is_some()) {
-        let relaxation = L::from_fn(|i| rows[i].spring.map_or(0.0, |s| s.relaxation));
-        let rest = Q::from_fn(|i| rows[i].spring.map_or(Quat::IDENTITY, |s| s.rest));
-        let error = a
-            .orientation
-            .mul(rest)
-            .mul(b.orientation.conjugate())
-            .rotation_vector();
-        relative_rotation(a, b, movable_a, movable_b, error.scale(relaxation));
-    }
+/// The limit part of `L::W` rows: infinite bounds (no correction) where a row has none.
+#[derive(Clone, Copy, Debug)]
+struct LimitLanes<L> {
+    swing_max: L,
+    twist_min: L,
+    twist_max: L,
+    start_twist: L,
+    frame_a: Q<L>,
+    frame_b: Q<L>,
+}
 
-    // Limits: swing cone, then twist unwrapped next to the substep's starting twist.
-    if rows.iter().any(|r| r.limit.is_some()) {
-        let limit = |i: usize| rows[i].limit;
-        let swing_max = L::from_fn(|i| limit(i).map_or(f32::INFINITY, |l| l.swing_max));
-        let twist_min = L::from_fn(|i| limit(i).map_or(f32::NEG_INFINITY, |l| l.twist_min));
-        let twist_max = L::from_fn(|i| limit(i).map_or(f32::INFINITY, |l| l.twist_max));
-        let start_twist = L::from_fn(|i| {
-            if limit(i).is_some() {
-                rows[i].start_twist
-            } else {
-                0.0
+/// `L::W` joint rows of one colour in lanes, packed once a substep (after the limits' starting
+/// twist): the rows' constants read straight into registers every iteration instead of
+/// gathered field by field from the rows (Box2D v3 keeps its SIMD contact constraints so).
+/// Parts no row of the batch has are `None` and skipped.
+#[derive(Clone, Copy, Debug)]
+pub struct JointLanes<L> {
+    index_a: [u32; MAX_LANES],
+    index_b: [u32; MAX_LANES],
+    anchor_a: V3<L>,
+    anchor_b: V3<L>,
+    spring: Option<SpringLanes<L>>,
+    limit: Option<LimitLanes<L>>,
+    /// Which point solve: all cheap, all exact, or a mask of the exact lanes.
+    point: PointFlavours<L>,
+}
+
+#[derive(Clone, Copy, Debug)]
+enum PointFlavours<L> {
+    Cheap,
+    Exact,
+    Mixed { exact: L },
+}
+
+impl<L: Lane> JointLanes<L> {
+    /// One to `L::W` rows sharing no movable body (lanes past the last repeat the first:
+    /// [`padded`]).
+    pub fn pack(rows: &[JointRow]) -> Self {
+        assert!((1..=L::W).contains(&rows.len()), "a batch is one to W rows");
+        let row = |i: usize| padded(rows, i);
+        let mut index_a = [0u32; MAX_LANES];
+        let mut index_b = [0u32; MAX_LANES];
+        for i in 0..L::W {
+            let row = row(i);
+            debug_assert_ne!(
+                row.body_a, row.body_b,
+                "a constraint needs two distinct bodies"
+            );
+            index_a[i] = row.body_a;
+            index_b[i] = row.body_b;
+        }
+        let spring = rows
+            .iter()
+            .any(|r| r.spring.is_some())
+            .then(|| SpringLanes {
+                relaxation: L::from_fn(|i| row(i).spring.map_or(0.0, |s| s.relaxation)),
+                rest: Q::from_fn(|i| row(i).spring.map_or(Quat::IDENTITY, |s| s.rest)),
+            });
+        let limit = rows.iter().any(|r| r.limit.is_some()).then(|| {
+            let limit = |i: usize| row(i).limit;
+            LimitLanes {
+                swing_max: L::from_fn(|i| limit(i).map_or(f32::INFINITY, |l| l.swing_max)),
+                twist_min: L::from_fn(|i| limit(i).map_or(f32::NEG_INFINITY, |l| l.twist_min)),
+                twist_max: L::from_fn(|i| limit(i).map_or(f32::INFINITY, |l| l.twist_max)),
+                start_twist: L::from_fn(|i| {
+                    if limit(i).is_some() {
+                        row(i).start_twist
+                    } else {
+                        0.0
+                    }
+                }),
+                frame_a: Q::from_fn(|i| row(i).frame_a),
+                frame_b: Q::from_fn(|i| row(i).frame_b),
             }
         });
-        let frame_a = Q::from_fn(|i| rows[i].frame_a);
-        let frame_b = Q::from_fn(|i| rows[i].frame_b);
-
-        let mut fa = a.orientation.mul(frame_a);
-        let mut fb = b.orientation.mul(frame_b);
-        let (ax, bx) = (fa.x_axis(), fb.x_axis());
-        let cross = ax.cross(bx);
-        let swing = cross.length().atan2(ax.dot(bx));
-        let over = swing.gt(swing_max);
-        // Lanes not over the cone would get a zero rotation, which the angle guard skips: a
-        // batch with none over (most of the time) skips the part, bit for bit the same.
-        if over.any() {
-            // glam's try_normalize fails where 1 / |v| is not finite.
-            let (axis, _) = cross.normalize_or(ax.any_orthonormal(), 1.0 / f32::MAX);
-            let amount = over.select(-(swing - swing_max), L::zero());
-            relative_rotation(a, b, movable_a, movable_b, axis.scale(amount));
-            fa = a.orientation.mul(frame_a);
-            fb = b.orientation.mul(frame_b);
-        }
-
-        let r = fa.conjugate().mul(fb);
-        let twist = wrap_angle(L::splat(2.0) * r.x.atan2(r.w));
-        let unwrapped = start_twist + wrap_angle(twist - start_twist);
-        let excess = unwrapped.gt(twist_max).select(
-            unwrapped - twist_max,
-            unwrapped
-                .lt(twist_min)
-                .select(unwrapped - twist_min, L::zero()),
-        );
-        // A zero excess gives a zero rotation, which the angle guard skips (as above).
-        if (excess.lt(L::zero()) | excess.gt(L::zero())).any() {
-            relative_rotation(a, b, movable_a, movable_b, fb.x_axis().scale(-excess));
+        let any_cheap = rows.iter().any(|r| r.flavour == JointFlavour::Cheap);
+        let any_exact = rows.iter().any(|r| r.flavour == JointFlavour::Exact);
+        let point = match (any_cheap, any_exact) {
+            (true, false) => PointFlavours::Cheap,
+            (false, true) => PointFlavours::Exact,
+            _ => PointFlavours::Mixed {
+                exact: L::from_fn(|i| {
+                    if row(i).flavour == JointFlavour::Exact {
+                        1.0
+                    } else {
+                        0.0
+                    }
+                })
+                .gt(L::zero()),
+            },
+        };
+        JointLanes {
+            index_a,
+            index_b,
+            anchor_a: V3::from_fn(|i| row(i).anchor_a),
+            anchor_b: V3::from_fn(|i| row(i).anchor_b),
+            spring,
+            limit,
+            point,
         }
     }
 
-    // Point: the dislocation at the freshest poses, cheap (one row along the error) or exact
-    // (the 3x3 block).
-    let anchor_a = V3::from_fn(|i| rows[i].anchor_a);
-    let anchor_b = V3::from_fn(|i| rows[i].anchor_b);
-    let ra = a.orientation.rotate(anchor_a);
-    let rb = b.orientation.rotate(anchor_b);
-    let d = (b.position + rb) - (a.position + ra);
-    let any_cheap = rows.iter().any(|r| r.flavour == JointFlavour::Cheap);
-    let any_exact = rows.iter().any(|r| r.flavour == JointFlavour::Exact);
-    let (impulse, active) = match (any_cheap, any_exact) {
-        (true, false) => point_along_error(a, b, ra, rb, d),
-        (false, true) => point_block(a, b, ra, rb, d),
-        _ => {
-            let exact = L::from_fn(|i| {
-                if rows[i].flavour == JointFlavour::Exact {
-                    1.0
-                } else {
-                    0.0
-                }
-            })
-            .gt(L::zero());
-            let (ic, ac) = point_along_error(a, b, ra, rb, d);
-            let (ie, ae) = point_block(a, b, ra, rb, d);
-            (V3::select(exact, ie, ic), exact.select(ae, ac))
+    /// One projection of every lane's joint: gather, spring, limits, point, scatter.
+    pub fn solve(&self, bodies: SharedBodies) {
+        let (index_a, index_b) = (&self.index_a[..L::W], &self.index_b[..L::W]);
+        // SAFETY: the rows of a batch share no movable body, and no other thread touches them
+        // (the caller's colouring); immovable bodies are only read.
+        let (mut a, mut b) = unsafe {
+            (
+                BodyLanes::<L>::gather(bodies, index_a),
+                BodyLanes::<L>::gather(bodies, index_b),
+            )
+        };
+        self.solve_bodies(&mut a, &mut b);
+        // SAFETY: as above; scatter skips immovable bodies, which may repeat across lanes.
+        unsafe {
+            a.scatter(bodies, index_a);
+            b.scatter(bodies, index_b);
         }
-    };
-    apply_positional(a, impulse, ra, active & movable_a);
-    apply_positional(b, -impulse, rb, active & movable_b);
+    }
+
+    /// The kernel on gathered bodies.
+    #[inline(always)]
+    fn solve_bodies(&self, a: &mut BodyLanes<L>, b: &mut BodyLanes<L>) {
+        let movable_a = movable(a);
+        let movable_b = movable(b);
+
+        // Spring: remove `relaxation` of the rotation q_a q_rest q_b^-1.
+        if let Some(spring) = &self.spring {
+            let error = a
+                .orientation
+                .mul(spring.rest)
+                .mul(b.orientation.conjugate())
+                .rotation_vector();
+            relative_rotation(a, b, movable_a, movable_b, error.scale(spring.relaxation));
+        }
+
+        // Limits: swing cone, then twist unwrapped next to the substep's starting twist.
+        if let Some(limit) = &self.limit {
+            let (frame_a, frame_b) = (limit.frame_a, limit.frame_b);
+            let mut fa = a.orientation.mul(frame_a);
+            let mut fb = b.orientation.mul(frame_b);
+            let (ax, bx) = (fa.x_axis(), fb.x_axis());
+            let cross = ax.cross(bx);
+            let swing = cross.length().atan2(ax.dot(bx));
+            let over = swing.gt(limit.swing_max);
+            // Lanes not over the cone would get a zero rotation, which the angle guard skips: a
+            // batch with none over (most of the time) skips the part, bit for bit the same.
+            if over.any() {
+                // glam's try_normalize fails where 1 / |v| is not finite.
+                let (axis, _) = cross.normalize_or(ax.any_orthonormal(), 1.0 / f32::MAX);
+                let amount = over.select(-(swing - limit.swing_max), L::zero());
+                relative_rotation(a, b, movable_a, movable_b, axis.scale(amount));
+                fa = a.orientation.mul(frame_a);
+                fb = b.orientation.mul(frame_b);
+            }
+
+            let r = fa.conjugate().mul(fb);
+            let twist = wrap_angle(L::splat(2.0) * r.x.atan2(r.w));
+            let start_twist = limit.start_twist;
+            let unwrapped = start_twist + wrap_angle(twist - start_twist);
+            let excess = unwrapped.gt(limit.twist_max).select(
+                unwrapped - limit.twist_max,
+                unwrapped
+                    .lt(limit.twist_min)
+                    .select(unwrapped - limit.twist_min, L::zero()),
+            );
+            // A zero excess gives a zero rotation, which the angle guard skips (as above).
+            if (excess.lt(L::zero()) | excess.gt(L::zero())).any() {
+                relative_rotation(a, b, movable_a, movable_b, fb.x_axis().scale(-excess));
+            }
+        }
+
+        // Point: the dislocation at the freshest poses, cheap (one row along the error) or
+        // exact (the 3x3 block).
+        let ra = a.orientation.rotate(self.anchor_a);
+        let rb = b.orientation.rotate(self.anchor_b);
+        let d = (b.position + rb) - (a.position + ra);
+        let (impulse, active) = match self.point {
+            PointFlavours::Cheap => point_along_error(a, b, ra, rb, d),
+            PointFlavours::Exact => point_block(a, b, ra, rb, d),
+            PointFlavours::Mixed { exact } => {
+                let (ic, ac) = point_along_error(a, b, ra, rb, d);
+                let (ie, ae) = point_block(a, b, ra, rb, d);
+                (V3::select(exact, ie, ic), exact.select(ae, ac))
+            }
+        };
+        apply_positional(a, impulse, ra, active & movable_a);
+        apply_positional(b, -impulse, rb, active & movable_b);
+    }
 }
 
 /// Mask of lanes whose body moves (the scalar `inverse_mass == 0` early return).

@@ -96,13 +96,4 @@ impl DamperRow {
             relative_rotation(a, b, self.relaxation * error);
         }
     }
-
-    /// [`DamperRow::solve`] on each row of a batch that shares no movable body (the solver's
-    /// batch kernel; dampers have no lane kernel: see the README's damping cost).
-    pub fn solve_batch(rows: &mut [DamperRow], bodies: crate::solver_body::SharedBodies) {
-        for row in rows {
-            // SAFETY: the batch's rows share no movable body.
-            unsafe { bodies.with_pair(row.body_a, row.body_b, |a, b| row.solve(a, b)) };
-        }
-    }
 }

@@ -24,16 +24,16 @@
 //! The lanes differ from the scalar code only by rounding (and `wide`'s polynomial `atan2`,
 //! `sin`, `cos`): `tests/lanes_rod.rs` measures the agreement.
 //!
-//! [`solve_batch`] (the solver's [`crate::solver::BatchKernel`] for rods) runs this kernel on
-//! `wide::f32x4` (or `f32x8` for a batch of 8) when every row uses the default modes; a batch
-//! with any other mode ([`TwistMode::Paper`], [`LengthCorrection::Gradient`]) or of another
-//! size falls back to the scalar [`RodRow::solve`] row by row, so results stay those of the
-//! scalar reference up to rounding whatever the modes.
+//! The SIMD solver packs a batch into [`RodLanes`] only when every row uses the default modes
+//! ([`is_default_modes`]); a batch with any other mode ([`TwistMode::Paper`],
+//! [`LengthCorrection::Gradient`]) is solved with the scalar [`RodRow::solve`] row by row
+//! ([`crate::solver::packed`]), as [`solve_batch`] does for 4 or 8 rows, so results stay those
+//! of the scalar reference up to rounding whatever the modes.
 //!
 //! [`SolverBody::apply_angular_impulse`]: crate::solver_body::SolverBody::apply_angular_impulse
 
 use super::rod::{LengthCorrection, RodRow, TwistMode};
-use crate::lanes::{BodyLanes, Lane, Q, V3};
+use crate::lanes::{padded, BodyLanes, Lane, MAX_LANES, Q, V3};
 use crate::solver_body::SharedBodies;
 
 /// Solves a batch of rows that share no movable body: W = 4 or 8 lanes when every row uses the
@@ -61,33 +61,18 @@ pub fn solve_scalar(rows: &mut [RodRow], bodies: SharedBodies) {
     }
 }
 
-/// Exactly `L::W` rows, all in the default modes, sharing no movable body: gathered into lanes,
-/// solved by [`solve_rod_lanes`], scattered back.
+/// Exactly `L::W` rows, all in the default modes, sharing no movable body: packed, then
+/// solved once (the solver packs once a substep and solves the packed batch every iteration).
 pub fn solve_lanes<L: Lane>(rows: &mut [RodRow], bodies: SharedBodies) {
-    assert_eq!(rows.len(), L::W, "a lane batch is exactly W rows");
-    debug_assert!(rows.iter().all(is_default_modes));
-    let mut index_a = [0u32; crate::lanes::MAX_LANES];
-    let mut index_b = [0u32; crate::lanes::MAX_LANES];
-    for (i, row) in rows.iter().enumerate() {
-        index_a[i] = row.body_a;
-        index_b[i] = row.body_b;
-    }
-    let (index_a, index_b) = (&index_a[..L::W], &index_b[..L::W]);
-    let lanes = RodLanes::gather(rows);
-    // SAFETY: the rows of a batch share no movable body, and no other thread touches them
-    // (the caller's colouring); immovable bodies are only read.
-    unsafe {
-        let mut a = BodyLanes::<L>::gather(bodies, index_a);
-        let mut b = BodyLanes::<L>::gather(bodies, index_b);
-        solve_rod_lanes(&lanes, &mut a, &mut b);
-        a.scatter(bodies, index_a);
-        b.scatter(bodies, index_b);
-    }
+    RodLanes::<L>::pack(rows).solve(bodies);
 }
 
-/// The rows' constants, one rod per lane.
+/// `L::W` rods of one colour in lanes, packed once a substep: the rows' constants, one rod per
+/// lane, and their bodies.
 #[derive(Clone, Copy, Debug)]
 pub struct RodLanes<L> {
+    index_a: [u32; MAX_LANES],
+    index_b: [u32; MAX_LANES],
     pub frame_a: Q<L>,
     pub frame_b: Q<L>,
     pub rest_length: L,
@@ -96,13 +81,41 @@ pub struct RodLanes<L> {
 }
 
 impl<L: Lane> RodLanes<L> {
-    pub fn gather(rows: &[RodRow]) -> Self {
+    /// One to `L::W` rows, all in the default modes ([`is_default_modes`]), sharing no movable
+    /// body (lanes past the last repeat the first: [`padded`]).
+    pub fn pack(rows: &[RodRow]) -> Self {
+        assert!((1..=L::W).contains(&rows.len()), "a batch is one to W rows");
+        let row = |i: usize| padded(rows, i);
+        debug_assert!(rows.iter().all(is_default_modes));
+        let mut index_a = [0u32; MAX_LANES];
+        let mut index_b = [0u32; MAX_LANES];
+        for i in 0..L::W {
+            let row = row(i);
+            index_a[i] = row.body_a;
+            index_b[i] = row.body_b;
+        }
         RodLanes {
-            frame_a: Q::from_fn(|i| rows[i].frame_a),
-            frame_b: Q::from_fn(|i| rows[i].frame_b),
-            rest_length: L::from_fn(|i| rows[i].rest_length),
-            alpha_bend: L::from_fn(|i| rows[i].alpha_bend),
-            alpha_twist: L::from_fn(|i| rows[i].alpha_twist),
+            index_a,
+            index_b,
+            frame_a: Q::from_fn(|i| row(i).frame_a),
+            frame_b: Q::from_fn(|i| row(i).frame_b),
+            rest_length: L::from_fn(|i| row(i).rest_length),
+            alpha_bend: L::from_fn(|i| row(i).alpha_bend),
+            alpha_twist: L::from_fn(|i| row(i).alpha_twist),
+        }
+    }
+
+    /// One projection of every lane's rod: gathered, [`solve_rod_lanes`], scattered back.
+    pub fn solve(&self, bodies: SharedBodies) {
+        let (index_a, index_b) = (&self.index_a[..L::W], &self.index_b[..L::W]);
+        // SAFETY: the rows of a batch share no movable body, and no other thread touches them
+        // (the caller's colouring); immovable bodies are only read.
+        unsafe {
+            let mut a = BodyLanes::<L>::gather(bodies, index_a);
+            let mut b = BodyLanes::<L>::gather(bodies, index_b);
+            solve_rod_lanes(self, &mut a, &mut b);
+            a.scatter(bodies, index_a);
+            b.scatter(bodies, index_b);
         }
     }
 }

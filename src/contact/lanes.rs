@@ -12,111 +12,166 @@
 //! orientation is rebuilt from the same predicted orientation and correction).
 
 use super::ContactPoint;
-use crate::lanes::{BodyLanes, Lane, V3};
+use crate::lanes::{padded, BodyLanes, Lane, MAX_LANES, V3};
 use crate::solver_body::SharedBodies;
 
-/// Solves `rows` (4 or 8 of one colour's points, sharing no movable body, as
-/// [`crate::solver::SIMD_WIDTH`] gives them) in `wide::f32x4` or `wide::f32x8` lanes.
-pub fn solve_batch(rows: &mut [ContactPoint], bodies: SharedBodies) {
-    match rows.len() {
-        8 => solve_lanes::<wide::f32x8>(rows, bodies),
-        _ => solve_lanes::<wide::f32x4>(rows, bodies),
-    }
+/// Solves `L::W` points at once: packed, solved once, unpacked (the solver packs once a
+/// substep and solves the packed batch every iteration).
+pub fn solve_lanes<L: Lane>(rows: &mut [ContactPoint], bodies: SharedBodies) {
+    let mut lanes = ContactLanes::<L>::pack(rows);
+    lanes.solve(bodies);
+    lanes.unpack(rows);
 }
 
-/// Solves `L::W` points at once.
-pub fn solve_lanes<L: Lane>(rows: &mut [ContactPoint], bodies: SharedBodies) {
-    assert_eq!(rows.len(), L::W, "a batch is exactly one point per lane");
-    let mut index_a = [0u32; crate::lanes::MAX_LANES];
-    let mut index_b = [0u32; crate::lanes::MAX_LANES];
-    for (i, p) in rows.iter().enumerate() {
-        index_a[i] = p.body_a.0;
-        index_b[i] = p.body_b.0;
-    }
-    let (index_a, index_b) = (&index_a[..L::W], &index_b[..L::W]);
-    // SAFETY: the rows of a batch share no movable body (graph colouring).
-    let (mut a, mut b) = unsafe {
-        (
-            BodyLanes::<L>::gather(bodies, index_a),
-            BodyLanes::<L>::gather(bodies, index_b),
-        )
-    };
-    let n = V3::<L>::from_fn(|i| rows[i].normal);
-    let local_a = V3::<L>::from_fn(|i| rows[i].local_a);
-    let local_b = V3::<L>::from_fn(|i| rows[i].local_b);
-    let mut normal_impulse = L::from_fn(|i| rows[i].normal_impulse);
-    let zero = L::zero();
+/// `L::W` contact points of one colour in lanes: what a solve reads, packed once a substep
+/// (nothing here changes between iterations), and the impulses the iterations accumulate,
+/// which [`ContactLanes::unpack`] hands back to the points (Box2D v3's
+/// `b2ContactConstraintSIMD`). Reading the points' fields into lanes each iteration cost
+/// about as much as the solve's arithmetic.
+#[derive(Clone, Copy, Debug)]
+pub struct ContactLanes<L> {
+    index_a: [u32; MAX_LANES],
+    index_b: [u32; MAX_LANES],
+    normal: V3<L>,
+    local_a: V3<L>,
+    local_b: V3<L>,
+    arm_a: V3<L>,
+    arm_b: V3<L>,
+    anchor_a: V3<L>,
+    anchor_b: V3<L>,
+    static_friction: L,
+    dynamic_friction: L,
+    allowed_penetration: L,
+    /// Whether any point is soft; a batch of hard points (the paper's projection) skips the
+    /// soft terms, which would add exact zeros.
+    soft: bool,
+    compliance: L,
+    damping: L,
+    start_separation: L,
+    normal_impulse: L,
+    friction_impulse: L,
+    /// Lanes that slid in some iteration (their points stop sticking).
+    slid: L,
+}
 
-    // 1. non-penetration: measured at the turned points, pushed at the fixed lever arms
-    let point_a = a.position + a.orientation.rotate(local_a);
-    let point_b = b.position + b.orientation.rotate(local_b);
-    let allowed = L::from_fn(|i| rows[i].allowed_penetration);
-    let separation = (point_b - point_a).dot(n) + allowed;
-    let ra = V3::<L>::from_fn(|i| rows[i].arm_a);
-    let rb = V3::<L>::from_fn(|i| rows[i].arm_b);
-    let w = a.positional_inverse_mass(ra, n) + b.positional_inverse_mass(rb, n);
-    let active = w.gt(zero) & (separation.lt(zero) | normal_impulse.gt(zero));
-    // soft contacts as the scalar code; a batch of hard points (zero compliance and damping,
-    // the paper's projection) skips the soft terms, which would add exact zeros
-    let (error, denominator) = if rows.iter().any(|r| r.compliance != 0.0 || r.damping != 0.0) {
-        let soft = L::from_fn(|i| rows[i].compliance) * w;
-        let damping = L::from_fn(|i| rows[i].damping);
-        let start = L::from_fn(|i| rows[i].start_separation);
-        (
-            separation + soft * normal_impulse + damping * (separation - start),
-            (L::splat(1.0) + damping) * w + soft,
-        )
-    } else {
-        (separation, w)
-    };
-    let total = (normal_impulse - error / denominator.max(L::splat(f32::MIN_POSITIVE))).max(zero);
-    let total = active.select(total, normal_impulse);
-    let lambda = total - normal_impulse;
-    normal_impulse = total;
-    a.apply_positional_impulse(n.scale(-lambda), ra);
-    b.apply_positional_impulse(n.scale(lambda), rb);
-
-    // 2. friction, where the point pushes
-    let pushing = normal_impulse.gt(zero);
-    let mut friction_impulse = L::from_fn(|i| rows[i].friction_impulse);
-    let mut slid = zero;
-    if pushing.any() {
-        let anchor_a = V3::<L>::from_fn(|i| rows[i].anchor_a);
-        let anchor_b = V3::<L>::from_fn(|i| rows[i].anchor_b);
-        let static_friction = L::from_fn(|i| rows[i].static_friction);
-        let dynamic_friction = L::from_fn(|i| rows[i].dynamic_friction);
-        let slip = (b.position + b.orientation.rotate(anchor_b))
-            - (a.position + a.orientation.rotate(anchor_a));
-        let tangential = slip - n.scale(slip.dot(n));
-        let length = tangential.length();
-        let moving = length.gt(L::splat(1e-9));
-        let t = tangential.scale(moving.select(L::splat(1.0) / length.max(L::splat(1e-9)), zero));
-        let w = a.positional_inverse_mass(ra, t) + b.positional_inverse_mass(rb, t);
-        let active = pushing & moving & w.gt(zero);
-        let needed = length / w.max(L::splat(f32::MIN_POSITIVE));
-        // `<=` as in the scalar code
-        let limit = static_friction * normal_impulse;
-        let within = (friction_impulse + needed).le(limit);
-        let sliding = (dynamic_friction * normal_impulse - friction_impulse)
-            .max(zero)
-            .min(needed);
-        let applied = active.select(within.select(needed, sliding), zero);
-        slid = active & limit.lt(friction_impulse + needed);
-        a.apply_positional_impulse(t.scale(applied), ra);
-        b.apply_positional_impulse(t.scale(-applied), rb);
-        friction_impulse = friction_impulse + applied.max(zero);
+impl<L: Lane> ContactLanes<L> {
+    /// One to `L::W` points sharing no movable body (lanes past the last repeat the first:
+    /// [`padded`]), at the start of a substep's iterations.
+    pub fn pack(rows: &[ContactPoint]) -> Self {
+        assert!((1..=L::W).contains(&rows.len()), "a batch is one to W rows");
+        let row = |i: usize| padded(rows, i);
+        let mut index_a = [0u32; MAX_LANES];
+        let mut index_b = [0u32; MAX_LANES];
+        for i in 0..L::W {
+            let p = row(i);
+            index_a[i] = p.body_a.0;
+            index_b[i] = p.body_b.0;
+        }
+        ContactLanes {
+            index_a,
+            index_b,
+            normal: V3::from_fn(|i| row(i).normal),
+            local_a: V3::from_fn(|i| row(i).local_a),
+            local_b: V3::from_fn(|i| row(i).local_b),
+            arm_a: V3::from_fn(|i| row(i).arm_a),
+            arm_b: V3::from_fn(|i| row(i).arm_b),
+            anchor_a: V3::from_fn(|i| row(i).anchor_a),
+            anchor_b: V3::from_fn(|i| row(i).anchor_b),
+            static_friction: L::from_fn(|i| row(i).static_friction),
+            dynamic_friction: L::from_fn(|i| row(i).dynamic_friction),
+            allowed_penetration: L::from_fn(|i| row(i).allowed_penetration),
+            soft: rows.iter().any(|r| r.compliance != 0.0 || r.damping != 0.0),
+            compliance: L::from_fn(|i| row(i).compliance),
+            damping: L::from_fn(|i| row(i).damping),
+            start_separation: L::from_fn(|i| row(i).start_separation),
+            normal_impulse: L::from_fn(|i| row(i).normal_impulse),
+            friction_impulse: L::from_fn(|i| row(i).friction_impulse),
+            slid: L::zero(),
+        }
     }
 
-    // SAFETY: as for the gather.
-    unsafe {
-        a.scatter(bodies, index_a);
-        b.scatter(bodies, index_b);
+    /// Hands the accumulated impulses, and whether a point slid, back to the points (the
+    /// batch's own: repeated lanes are dropped).
+    pub fn unpack(&self, rows: &mut [ContactPoint]) {
+        for (i, p) in rows.iter_mut().enumerate().take(L::W) {
+            p.normal_impulse = self.normal_impulse.lane(i);
+            p.friction_impulse = self.friction_impulse.lane(i);
+            if self.slid.lane(i).to_bits() != 0 {
+                p.sticking = false;
+            }
+        }
     }
-    for (i, p) in rows.iter_mut().enumerate() {
-        p.normal_impulse = normal_impulse.lane(i);
-        p.friction_impulse = friction_impulse.lane(i);
-        if slid.lane(i).to_bits() != 0 {
-            p.sticking = false;
+
+    /// One iteration of the batch's points: [`ContactPoint::solve`] per lane.
+    pub fn solve(&mut self, bodies: SharedBodies) {
+        let (index_a, index_b) = (&self.index_a[..L::W], &self.index_b[..L::W]);
+        // SAFETY: the rows of a batch share no movable body (graph colouring).
+        let (mut a, mut b) = unsafe {
+            (
+                BodyLanes::<L>::gather(bodies, index_a),
+                BodyLanes::<L>::gather(bodies, index_b),
+            )
+        };
+        let (n, ra, rb) = (self.normal, self.arm_a, self.arm_b);
+        let zero = L::zero();
+        let normal_impulse = self.normal_impulse;
+
+        // 1. non-penetration: measured at the turned points, pushed at the fixed lever arms
+        let point_a = a.position + a.orientation.rotate(self.local_a);
+        let point_b = b.position + b.orientation.rotate(self.local_b);
+        let separation = (point_b - point_a).dot(n) + self.allowed_penetration;
+        let w = a.positional_inverse_mass(ra, n) + b.positional_inverse_mass(rb, n);
+        let active = w.gt(zero) & (separation.lt(zero) | normal_impulse.gt(zero));
+        let (error, denominator) = if self.soft {
+            let soft = self.compliance * w;
+            let damping = self.damping;
+            (
+                separation + soft * normal_impulse + damping * (separation - self.start_separation),
+                (L::splat(1.0) + damping) * w + soft,
+            )
+        } else {
+            (separation, w)
+        };
+        let total =
+            (normal_impulse - error / denominator.max(L::splat(f32::MIN_POSITIVE))).max(zero);
+        let total = active.select(total, normal_impulse);
+        let lambda = total - normal_impulse;
+        let normal_impulse = total;
+        self.normal_impulse = normal_impulse;
+        a.apply_positional_impulse(n.scale(-lambda), ra);
+        b.apply_positional_impulse(n.scale(lambda), rb);
+
+        // 2. friction, where the point pushes
+        let pushing = normal_impulse.gt(zero);
+        if pushing.any() {
+            let friction_impulse = self.friction_impulse;
+            let slip = (b.position + b.orientation.rotate(self.anchor_b))
+                - (a.position + a.orientation.rotate(self.anchor_a));
+            let tangential = slip - n.scale(slip.dot(n));
+            let length = tangential.length();
+            let moving = length.gt(L::splat(1e-9));
+            let t =
+                tangential.scale(moving.select(L::splat(1.0) / length.max(L::splat(1e-9)), zero));
+            let w = a.positional_inverse_mass(ra, t) + b.positional_inverse_mass(rb, t);
+            let active = pushing & moving & w.gt(zero);
+            let needed = length / w.max(L::splat(f32::MIN_POSITIVE));
+            // `<=` as in the scalar code
+            let limit = self.static_friction * normal_impulse;
+            let within = (friction_impulse + needed).le(limit);
+            let sliding = (self.dynamic_friction * normal_impulse - friction_impulse)
+                .max(zero)
+                .min(needed);
+            let applied = active.select(within.select(needed, sliding), zero);
+            self.slid = self.slid | (active & limit.lt(friction_impulse + needed));
+            a.apply_positional_impulse(t.scale(applied), ra);
+            b.apply_positional_impulse(t.scale(-applied), rb);
+            self.friction_impulse = friction_impulse + applied.max(zero);
+        }
+
+        // SAFETY: as for the gather.
+        unsafe {
+            a.scatter(bodies, index_a);
+            b.scatter(bodies, index_b);
         }
     }
 }

@@ -49,6 +49,7 @@
 //! vector here is reused from frame to frame.
 
 pub mod graph;
+pub mod packed;
 pub mod profile;
 /// The hot body and the SIMD lanes live below the constraint kinds, which use them; re-exported
 /// here, where they belong to the reader.
@@ -60,6 +61,8 @@ use crate::contact::{ContactPoint, Contacts};
 use crate::math::{quat_from_rotation_vector, rotation_vector, skew, Mat3, Vec3};
 use body::{SharedBodies, SolverBody};
 use graph::{Colouring, Colours, Order};
+use packed::Packed;
+pub use packed::SIMD_WIDTH;
 use profile::lap;
 pub use profile::Profile;
 use rayon::prelude::*;
@@ -187,6 +190,10 @@ pub struct Solver {
     dampers: Vec<DamperRow>,
     damper_colours: Colours,
     contact_colours: Colours,
+    /// The rows in lanes for [`SolverKind::Simd`], packed once a substep ([`packed`]).
+    joint_lanes: Packed<JointRow>,
+    rod_lanes: Packed<RodRow>,
+    contact_lanes: Packed<ContactPoint>,
     colouring: Colouring,
     joint_scratch: Vec<JointRow>,
     rod_scratch: Vec<RodRow>,
@@ -344,51 +351,54 @@ impl Solver {
             contacts.warm_start(&mut self.bodies, settings.contact_warm_start, impact_speed);
         }
         self.profile.integrate += lap(&mut clock);
-        // 3.3 fixed iterations, kind by kind, colour by colour
+        // 3.3 fixed iterations, kind by kind, colour by colour; the SIMD solver packs each
+        // kind's batches into lanes first (its cost counted with the kind)
         let shared = SharedBodies::new(&mut self.bodies);
-        let kind = settings.solver;
+        let simd = settings.solver == SolverKind::Simd;
+        if simd {
+            self.rod_lanes.pack(&self.rods, &self.rod_colours, parallel);
+            self.profile.rods += lap(&mut clock);
+            (self.joint_lanes).pack(&self.joints, &self.joint_colours, parallel);
+            self.profile.joints += lap(&mut clock);
+            (self.contact_lanes).pack(&contacts.points, &self.contact_colours, parallel);
+            self.profile.contacts += lap(&mut clock);
+        }
         for _ in 0..settings.iterations {
             if !self.dampers.is_empty() {
-                solve_colours(
-                    &mut self.dampers,
-                    &self.damper_colours,
-                    shared,
-                    kind,
-                    parallel,
-                    |row, a, b| row.solve(a, b),
-                    DamperRow::solve_batch,
-                );
+                solve_colours(&mut self.dampers, &self.damper_colours, shared, parallel);
                 self.profile.joints += lap(&mut clock);
             }
-            solve_colours(
+            let rod_lanes = simd.then_some(&mut self.rod_lanes);
+            sweep(
                 &mut self.rods,
                 &self.rod_colours,
+                rod_lanes,
                 shared,
-                kind,
                 parallel,
-                |row, a, b| row.solve(a, b),
-                crate::constraint::rod_lanes::solve_batch,
             );
             self.profile.rods += lap(&mut clock);
-            solve_colours(
+            let joint_lanes = simd.then_some(&mut self.joint_lanes);
+            sweep(
                 &mut self.joints,
                 &self.joint_colours,
+                joint_lanes,
                 shared,
-                kind,
                 parallel,
-                |row, a, b| row.solve(a, b),
-                crate::constraint::ball_socket_lanes::solve_batch,
             );
             self.profile.joints += lap(&mut clock);
-            solve_colours(
-                &mut contacts.points,
+            let contact_lanes = simd.then_some(&mut self.contact_lanes);
+            let points = &mut contacts.points;
+            sweep(
+                points,
                 &self.contact_colours,
+                contact_lanes,
                 shared,
-                kind,
                 parallel,
-                |p, a, b| p.solve(a, b),
-                crate::contact::lanes::solve_batch,
             );
+            self.profile.contacts += lap(&mut clock);
+        }
+        if simd {
+            self.contact_lanes.unpack(&mut contacts.points);
             self.profile.contacts += lap(&mut clock);
         }
         // 3.4 velocities from the corrected previews; commit the poses
@@ -422,89 +432,86 @@ impl Solver {
     }
 }
 
-/// A kernel solving W rows at once: `rows.len()` is the lane width.
-pub type BatchKernel<T> = fn(&mut [T], SharedBodies);
-
-/// Lane width of [`SolverKind::Simd`] (chosen by measurement: see `benches/solver.rs`): 8 where
-/// the build has AVX (one 256-bit register per `wide::f32x8`), else 4; without AVX an `f32x8` is
-/// two 4-wide halves and measured no faster than 4 lanes.
-pub const SIMD_WIDTH: usize = if cfg!(target_feature = "avx") { 8 } else { 4 };
-
-/// Solves every colour of one kind's rows once. Rows of a colour are independent: the scalar
-/// kernel takes them one by one, the SIMD kernel [`SIMD_WIDTH`] at a time (a remainder one by
-/// one); a large colour is split into chunks across threads. The overflow colour is always
-/// sequential.
-fn solve_colours<T: Send + RowBodies>(
+/// One sweep over a kind's rows, colour by colour: from their packed lanes with the SIMD solver
+/// ([`packed::Packed::solve`]), else one row at a time with the scalar kernel (the reference).
+/// Rows of a colour are independent, so a large colour is split into chunks across threads;
+/// the overflow colour is always sequential.
+fn sweep<T: packed::LaneRows>(
     rows: &mut [T],
     colours: &Colours,
+    lanes: Option<&mut Packed<T>>,
     bodies: SharedBodies,
-    kind: SolverKind,
     parallel: bool,
-    one: impl Fn(&mut T, &mut SolverBody, &mut SolverBody) + Sync,
-    batch: BatchKernel<T>,
 ) {
-    let solve_chunk = |chunk: &mut [T]| {
-        let mut rest: &mut [T] = chunk;
-        if kind == SolverKind::Simd {
-            let full = rest.len() / SIMD_WIDTH * SIMD_WIDTH;
-            let (lanes, tail) = rest.split_at_mut(full);
-            for group in lanes.chunks_exact_mut(SIMD_WIDTH) {
-                batch(group, bodies);
-            }
-            rest = tail;
-        }
-        for row in rest {
-            let (a, b) = row.bodies();
-            // SAFETY: rows of a colour share no movable body, and chunks of a colour are
-            // disjoint; the overflow colour runs on one thread.
-            unsafe { bodies.with_pair(a, b, |a, b| one(row, a, b)) };
-        }
+    if let Some(lanes) = lanes {
+        return lanes.solve(rows, bodies, parallel);
+    }
+    solve_colours(rows, colours, bodies, parallel);
+}
+
+/// The scalar sweep of [`sweep`] (also the dampers', which have no lane kernel).
+fn solve_colours<T: Row>(rows: &mut [T], colours: &Colours, bodies: SharedBodies, parallel: bool) {
+    let solve_row = |row: &mut T| {
+        let (a, b) = row.bodies();
+        // SAFETY: rows of a colour share no movable body, and chunks of a colour are
+        // disjoint; the overflow colour runs on one thread.
+        unsafe { bodies.with_pair(a, b, |a, b| row.solve(a, b)) };
     };
     for (colour, range) in colours.ranges() {
         let rows = &mut rows[range];
-        if colours.is_overflow(colour) {
-            for row in rows {
-                let (a, b) = row.bodies();
-                // SAFETY: one row at a time.
-                unsafe { bodies.with_pair(a, b, |a, b| one(row, a, b)) };
-            }
-        } else if parallel && rows.len() >= PARALLEL_MIN_ROWS {
-            let chunk =
-                (rows.len() / rayon::current_num_threads()).div_ceil(SIMD_WIDTH) * SIMD_WIDTH;
-            rows.par_chunks_mut(chunk.max(SIMD_WIDTH))
-                .for_each(solve_chunk);
+        if parallel && !colours.is_overflow(colour) && rows.len() >= PARALLEL_MIN_ROWS {
+            let chunk = rows.len().div_ceil(rayon::current_num_threads());
+            rows.par_chunks_mut(chunk)
+                .for_each(|rows| rows.iter_mut().for_each(solve_row));
         } else {
-            solve_chunk(rows);
+            rows.iter_mut().for_each(solve_row);
         }
     }
 }
 
-/// A row's two body indices.
-pub trait RowBodies {
+/// A row kind as the solver sweeps it: its two bodies and its scalar kernel (one projection).
+pub trait Row: Send {
     fn bodies(&self) -> (u32, u32);
+    fn solve(&mut self, a: &mut SolverBody, b: &mut SolverBody);
 }
 
-impl RowBodies for JointRow {
+impl Row for JointRow {
     fn bodies(&self) -> (u32, u32) {
         (self.body_a, self.body_b)
     }
-}
-
-impl RowBodies for DamperRow {
-    fn bodies(&self) -> (u32, u32) {
-        (self.body_a, self.body_b)
+    #[inline]
+    fn solve(&mut self, a: &mut SolverBody, b: &mut SolverBody) {
+        JointRow::solve(self, a, b)
     }
 }
 
-impl RowBodies for RodRow {
+impl Row for DamperRow {
     fn bodies(&self) -> (u32, u32) {
         (self.body_a, self.body_b)
     }
+    #[inline]
+    fn solve(&mut self, a: &mut SolverBody, b: &mut SolverBody) {
+        DamperRow::solve(self, a, b)
+    }
 }
 
-impl RowBodies for ContactPoint {
+impl Row for RodRow {
+    fn bodies(&self) -> (u32, u32) {
+        (self.body_a, self.body_b)
+    }
+    #[inline]
+    fn solve(&mut self, a: &mut SolverBody, b: &mut SolverBody) {
+        RodRow::solve(self, a, b)
+    }
+}
+
+impl Row for ContactPoint {
     fn bodies(&self) -> (u32, u32) {
         (self.body_a.0, self.body_b.0)
+    }
+    #[inline]
+    fn solve(&mut self, a: &mut SolverBody, b: &mut SolverBody) {
+        ContactPoint::solve(self, a, b)
     }
 }
 
