@@ -34,7 +34,8 @@
 //! a few cells (see the `contact_detection` benchmark). A one-axis sweep, which this replaced,
 //! grows as `n^1.5` on a square floor of ragdolls.
 
-use crate::body::{Body, BodyKind};
+use super::collider::Collider;
+use crate::body::BodyKind;
 use crate::math::Vec3;
 use crate::shape::Shape;
 
@@ -197,7 +198,7 @@ impl BroadPhase {
     /// and one moves (awake dynamic, or kinematic with a velocity).
     pub fn find_pairs(
         &mut self,
-        bodies: &[Body],
+        bodies: &[Collider],
         dt: f32,
         margin: f32,
         mut pair: impl FnMut(u32, u32),
@@ -224,14 +225,14 @@ impl BroadPhase {
         for (index, (proxy, tight)) in self.proxies.iter_mut().zip(&mut self.tight).enumerate() {
             let body = &bodies[proxy.body as usize];
             // grown by how far the fastest surface point may travel this frame, spin included
-            let grow = margin + dt * (body.linear_velocity.length() + body.spin_speed_bound());
-            let half = body.shape.world_half_extents(body.orientation) + Vec3::splat(grow);
+            let grow = margin + dt * (body.linear_velocity.length() + body.spin_bound);
+            let half = body.world_half_extents() + Vec3::splat(grow);
             *tight = Aabb {
                 min: (body.position - half).to_array(),
                 max: (body.position + half).to_array(),
             };
             let flags = Flags {
-                active: body.moves_this_step(),
+                active: body.moves,
                 dynamic: body.kind == BodyKind::Dynamic,
             };
             // a body that wakes or sleeps changes which pairs may touch
@@ -466,7 +467,7 @@ impl BroadPhase {
 
     /// Reports the kept pairs whose tight boxes overlap, then the large boxes' pairs and the
     /// half-spaces'.
-    fn report(&self, bodies: &[Body], pair: &mut impl FnMut(u32, u32)) {
+    fn report(&self, bodies: &[Collider], pair: &mut impl FnMut(u32, u32)) {
         let (proxies, tight) = (&self.proxies, &self.tight);
         for &(a, b) in &self.fat_pairs {
             if tight[a as usize].overlaps(&tight[b as usize]) {
@@ -526,7 +527,12 @@ fn merge_sorted(kept: &[(u32, u32)], found: &[(u32, u32)], out: &mut Vec<(u32, u
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::body::Body;
     use crate::math::{Quat, Vec3};
+
+    fn colliders(bodies: &[Body]) -> Vec<Collider> {
+        bodies.iter().map(Collider::new).collect()
+    }
 
     /// A reproducible uniform sequence in [0, 1) (a linear congruential generator).
     fn uniform(mut seed: u32) -> impl FnMut() -> f32 {
@@ -576,7 +582,9 @@ mod tests {
             bodies.push(Body::new("b", kind, shape, 1.0).with_pose(position, orientation));
         }
         let mut found = Vec::new();
-        BroadPhase::default().find_pairs(&bodies, 1.0 / 60.0, 0.02, |a, b| found.push((a, b)));
+        BroadPhase::default().find_pairs(&colliders(&bodies), 1.0 / 60.0, 0.02, |a, b| {
+            found.push((a, b))
+        });
         let count = found.len();
         found.sort_unstable();
         found.dedup();
@@ -627,7 +635,8 @@ mod tests {
         }
         let (dt, margin) = (1.0 / 60.0, 0.02);
         let mut found = Vec::new();
-        BroadPhase::default().find_pairs(&bodies, dt, margin, |a, b| found.push((a, b)));
+        BroadPhase::default()
+            .find_pairs(&colliders(&bodies), dt, margin, |a, b| found.push((a, b)));
         let mut contacts = 0;
         let mut features = Vec::new();
         for a in 0..bodies.len() {
@@ -636,7 +645,8 @@ mod tests {
                 // the narrow phase's reach (contact::PairContext::collide_all)
                 let reach = margin + dt * (p.linear_velocity - q.linear_velocity).length();
                 features.clear();
-                if super::super::narrowphase::collide(p, q, reach, &mut features) {
+                let (p, q) = (Collider::new(p), Collider::new(q));
+                if super::super::narrowphase::collide(&p, &q, reach, &mut features) {
                     contacts += 1;
                     let pair = (a as u32, b as u32);
                     assert!(
@@ -715,10 +725,13 @@ mod tests {
             }
             let rebuilds = kept.rebuilds;
             let mut incremental = Vec::new();
-            kept.find_pairs(&bodies, dt, margin, |a, b| incremental.push((a, b)));
+            kept.find_pairs(&colliders(&bodies), dt, margin, |a, b| {
+                incremental.push((a, b))
+            });
             updates += (kept.rebuilds == rebuilds) as u32;
             let mut fresh = Vec::new();
-            BroadPhase::default().find_pairs(&bodies, dt, margin, |a, b| fresh.push((a, b)));
+            BroadPhase::default()
+                .find_pairs(&colliders(&bodies), dt, margin, |a, b| fresh.push((a, b)));
             assert!(fresh.len() > 1000, "step {step}: {} pairs", fresh.len());
             assert_eq!(incremental, fresh, "step {step}");
         }
@@ -748,7 +761,9 @@ mod tests {
             pool.install(|| {
                 let mut found = Vec::new();
                 let mut broad = BroadPhase::default();
-                broad.find_pairs(&bodies, 1.0 / 60.0, 0.02, |a, b| found.push((a, b)));
+                broad.find_pairs(&colliders(&bodies), 1.0 / 60.0, 0.02, |a, b| {
+                    found.push((a, b))
+                });
                 assert!(
                     broad.entries.len() >= PARALLEL_SORT,
                     "{}",

@@ -1,39 +1,24 @@
 //! Narrow phase: closest features of a pair of shapes at the current poses, turned into contact
 //! points. Spheres are capsules of zero length. Pairs: sphere/capsule with sphere/capsule, box
-//! and half-space; box with half-space; box with box in [`super::box_box`].
+//! and half-space; box with half-space; box with box in [`super::box_box`]. Shapes are read
+//! from the step's [`Collider`] records.
 
+use super::collider::Collider;
 use super::feature::{closest_points_on_segments, Feature, FeatureId};
-use crate::body::Body;
 use crate::math::Vec3;
 use crate::shape::Shape;
 
-/// World segment (cap centres) and radius of a sphere or capsule.
-pub fn segment(body: &Body) -> Option<(Vec3, Vec3, f32)> {
-    match body.shape {
-        Shape::Sphere { radius } => Some((body.position, body.position, radius)),
-        Shape::Capsule {
-            half_height,
-            radius,
-            axis,
-        } => {
-            let half = body.orientation * (half_height * axis.unit());
-            Some((body.position - half, body.position + half, radius))
-        }
-        _ => None,
-    }
-}
-
 /// Sphere/capsule against sphere/capsule: one point at the closest features, two when the
 /// segments are parallel and overlap (so a capsule lying on another does not rock).
-pub fn capsule_capsule(a: &Body, b: &Body, margin: f32, out: &mut Vec<Feature>) {
+pub fn capsule_capsule(a: &Collider, b: &Collider, margin: f32, out: &mut Vec<Feature>) {
     // Bounding spheres first: every surface point lies within `half height + radius` of the
     // centre, so centres farther apart than both plus the reach have no feature in reach. On
     // the 1000-ragdoll rain about one capsule pair in eight ends here (counted over 10 s).
-    let reach = a.shape.bounding_radius() + b.shape.bounding_radius() + margin;
+    let reach = a.bounding_radius + b.bounding_radius + margin;
     if (b.position - a.position).length_squared() > reach * reach {
         return;
     }
-    let (Some((a0, a1, ra)), Some((b0, b1, rb))) = (segment(a), segment(b)) else {
+    let (Some((a0, a1, ra)), Some((b0, b1, rb))) = (a.segment(), b.segment()) else {
         return;
     };
     let mut push = |pa: Vec3, pb: Vec3, id: FeatureId| {
@@ -79,8 +64,8 @@ pub fn capsule_capsule(a: &Body, b: &Body, margin: f32, out: &mut Vec<Feature>) 
 
 /// Half-space (body a: the plane through its position with normal `orientation * +Y`, solid
 /// below) against a sphere or capsule: one point per cap centre within reach.
-pub fn half_space_capsule(plane: &Body, b: &Body, margin: f32, out: &mut Vec<Feature>) {
-    let Some((b0, b1, rb)) = segment(b) else {
+pub fn half_space_capsule(plane: &Collider, b: &Collider, margin: f32, out: &mut Vec<Feature>) {
+    let Some((b0, b1, rb)) = b.segment() else {
         return;
     };
     let normal = plane.orientation * Vec3::Y;
@@ -105,7 +90,7 @@ pub fn half_space_capsule(plane: &Body, b: &Body, margin: f32, out: &mut Vec<Fea
 }
 
 /// The eight corners of a box in world space.
-fn box_corners(body: &Body, half: Vec3) -> [Vec3; 8] {
+fn box_corners(body: &Collider, half: Vec3) -> [Vec3; 8] {
     std::array::from_fn(|i| {
         let sign = Vec3::new(
             if i & 1 == 0 { -1.0 } else { 1.0 },
@@ -117,7 +102,13 @@ fn box_corners(body: &Body, half: Vec3) -> [Vec3; 8] {
 }
 
 /// Half-space against a box: one point per corner within reach.
-pub fn half_space_box(plane: &Body, b: &Body, half: Vec3, margin: f32, out: &mut Vec<Feature>) {
+pub fn half_space_box(
+    plane: &Collider,
+    b: &Collider,
+    half: Vec3,
+    margin: f32,
+    out: &mut Vec<Feature>,
+) {
     let normal = plane.orientation * Vec3::Y;
     for (id, corner) in (0..).zip(box_corners(b, half)) {
         let separation = (corner - plane.position).dot(normal);
@@ -160,8 +151,8 @@ fn point_box(p: Vec3, half: Vec3) -> (Vec3, Vec3, f32) {
 /// Box (a) against a sphere or capsule (b): the closest features (alternating projection
 /// between the segment and the box, exact for these convex pairs) plus each cap centre on its
 /// own, so a capsule lying on a face gets two points.
-pub fn box_capsule(a: &Body, half: Vec3, b: &Body, margin: f32, out: &mut Vec<Feature>) {
-    let Some((w0, w1, radius)) = segment(b) else {
+pub fn box_capsule(a: &Collider, half: Vec3, b: &Collider, margin: f32, out: &mut Vec<Feature>) {
+    let Some((w0, w1, radius)) = b.segment() else {
         return;
     };
     let to_local = |p: Vec3| a.orientation.inverse() * (p - a.position);
@@ -193,7 +184,7 @@ pub fn box_capsule(a: &Body, half: Vec3, b: &Body, margin: f32, out: &mut Vec<Fe
 
 /// Contacts between two bodies at their current poses, within `margin`; normals point from a
 /// to b.
-pub fn collide(a: &Body, b: &Body, margin: f32, out: &mut Vec<Feature>) -> bool {
+pub fn collide(a: &Collider, b: &Collider, margin: f32, out: &mut Vec<Feature>) -> bool {
     let before = out.len();
     let round = |s: &Shape| matches!(s, Shape::Sphere { .. } | Shape::Capsule { .. });
     match (&a.shape, &b.shape) {
