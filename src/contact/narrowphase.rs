@@ -21,8 +21,17 @@ pub fn capsule_capsule(a: &Collider, b: &Collider, margin: f32, out: &mut Vec<Fe
     let (Some((a0, a1, ra)), Some((b0, b1, rb))) = (a.segment(), b.segment()) else {
         return;
     };
+    // beyond this (squared, a hair over the reach so rounding cannot differ) no point: the
+    // square root and the division wait for the pairs that may touch
+    let beyond = {
+        let touch = ra + rb + margin;
+        touch * touch * (1.0 + 1e-3)
+    };
     let mut push = |pa: Vec3, pb: Vec3, id: FeatureId| {
         let delta = pb - pa;
+        if delta.length_squared() > beyond {
+            return;
+        }
         let distance = delta.length();
         let normal = if distance > 1e-9 {
             delta / distance
@@ -41,8 +50,13 @@ pub fn capsule_capsule(a: &Collider, b: &Collider, margin: f32, out: &mut Vec<Fe
         }
     };
     let (da, db) = (a1 - a0, b1 - b0);
-    let parallel = da.length_squared() > 1e-12
-        && db.length_squared() > 1e-12
+    // segments whose angle has a sine clearly over 1e-3 (squared with a factor 2 to spare)
+    // skip the exact test's three square roots: most pairs
+    let (la, lb) = (da.length_squared(), db.length_squared());
+    let maybe_parallel = da.cross(db).length_squared() <= 2e-6 * la * lb;
+    let parallel = maybe_parallel
+        && la > 1e-12
+        && lb > 1e-12
         && da.normalize().cross(db.normalize()).length() < 1e-3;
     if parallel {
         // the two ends of the overlap of b's segment projected on a's
