@@ -58,6 +58,20 @@ pub fn capsule_capsule(a: &Collider, b: &Collider, margin: f32, out: &mut Vec<Fe
         && la > 1e-12
         && lb > 1e-12
         && da.normalize().cross(db.normalize()).length() < 1e-3;
+    // Crossing segments whose lines pass farther apart than the reach have no point: the
+    // distance between the lines, |(centre b - centre a) . c| / |c| with c = da x db, bounds
+    // the segments' from below. The bound is loosened by 1% and by 1e-3 of the bounding radii
+    // (the computed c tilts off the true perpendicular by at most 1.4e-4 rad when its sine is
+    // over 1.4e-3, moving the projected segments by 1.4e-4 of their length), so the pairs it
+    // ends are pairs the closest points would end too. A third of the rain's segment tests.
+    if !maybe_parallel {
+        let c = da.cross(db);
+        let across = (b.position - a.position).dot(c);
+        let bound = 1.01 * (ra + rb + margin) + 1e-3 * (a.bounding_radius + b.bounding_radius);
+        if across * across > bound * bound * c.length_squared() {
+            return;
+        }
+    }
     if parallel {
         // the two ends of the overlap of b's segment projected on a's
         let axis = da.normalize();
@@ -227,4 +241,124 @@ pub fn collide(a: &Collider, b: &Collider, margin: f32, out: &mut Vec<Feature>) 
         _ => {}
     }
     out.len() > before
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::body::{Body, BodyKind};
+    use crate::math::Quat;
+    use crate::shape::Axis;
+
+    /// `capsule_capsule` as it was before its shortcuts (the exact parallel test and the
+    /// distance for every pair, no line bound): the reference the shortcuts must match.
+    fn reference(a: &Collider, b: &Collider, margin: f32, out: &mut Vec<Feature>) {
+        let reach = a.bounding_radius + b.bounding_radius + margin;
+        if (b.position - a.position).length_squared() > reach * reach {
+            return;
+        }
+        let (Some((a0, a1, ra)), Some((b0, b1, rb))) = (a.segment(), b.segment()) else {
+            return;
+        };
+        let mut push = |pa: Vec3, pb: Vec3, id: FeatureId| {
+            let delta = pb - pa;
+            let distance = delta.length();
+            let normal = if distance > 1e-9 {
+                delta / distance
+            } else {
+                (b.position - a.position).try_normalize().unwrap_or(Vec3::Y)
+            };
+            let separation = distance - ra - rb;
+            if separation < margin {
+                out.push(Feature {
+                    normal,
+                    point_a: pa + ra * normal,
+                    point_b: pb - rb * normal,
+                    separation,
+                    id,
+                });
+            }
+        };
+        let (da, db) = (a1 - a0, b1 - b0);
+        let parallel = da.length_squared() > 1e-12
+            && db.length_squared() > 1e-12
+            && da.normalize().cross(db.normalize()).length() < 1e-3;
+        if parallel {
+            let axis = da.normalize();
+            let project = |p: Vec3| (p - a0).dot(axis).clamp(0.0, da.length());
+            let (s0, s1) = (project(b0), project(b1));
+            if (s0 - s1).abs() > 1e-6 {
+                for (s, id) in [(s0, 1), (s1, 2)] {
+                    let pa = a0 + s * axis;
+                    let (_, pb) = closest_points_on_segments(pa, pa, b0, b1);
+                    push(pa, pb, id);
+                }
+                return;
+            }
+        }
+        let (pa, pb) = closest_points_on_segments(a0, a1, b0, b1);
+        push(pa, pb, 0);
+    }
+
+    /// The shortcuts change no bit: 200 000 random capsule and sphere pairs, crossing at any
+    /// angle, nearly parallel (sines around the thresholds 1e-3 and 1.4e-3) and exactly
+    /// parallel, at distances around touching (where the bounds cut), give the same features
+    /// as the reference (47 000 of them touch; the line bound ends over 20 000).
+    #[test]
+    fn the_shortcuts_give_the_reference_points_to_the_bit() {
+        let mut seed = 2024u32;
+        let mut random = move || {
+            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (seed >> 8) as f32 / (1 << 24) as f32
+        };
+        let (mut touching, mut ended_by_line) = (0, 0);
+        for i in 0..200_000 {
+            let shape = |random: &mut dyn FnMut() -> f32| match i % 7 {
+                0 => Shape::Sphere {
+                    radius: 0.02 + 0.1 * random(),
+                },
+                _ => Shape::Capsule {
+                    half_height: 0.05 + 0.3 * random(),
+                    radius: 0.02 + 0.06 * random(),
+                    axis: Axis::Y,
+                },
+            };
+            let direction = Vec3::new(random() - 0.5, random() - 0.5, random() - 0.5).normalize();
+            let turn = Quat::from_rotation_arc(Vec3::Y, direction);
+            let angle = match i % 4 {
+                0 => 3.0 * random(),
+                1 => 2e-3 * random(),
+                2 => 0.0,
+                _ => 1e-3 + 1e-3 * (random() - 0.5),
+            };
+            let tilt = Vec3::new(random() - 0.5, 0.0, random() - 0.5).normalize();
+            let other = turn * Quat::from_axis_angle(tilt, angle);
+            let offset = Vec3::new(random() - 0.5, random() - 0.5, random() - 0.5) * 0.6;
+            let centre = Vec3::new(10.0 * random(), random(), 10.0 * random());
+            let body = |s: Shape, p: Vec3, q: Quat| {
+                Collider::new(&Body::new("c", BodyKind::Dynamic, s, 1.0).with_pose(p, q))
+            };
+            let a = body(shape(&mut random), centre, turn);
+            let b = body(shape(&mut random), centre + offset, other);
+            let margin = 0.02 + 0.05 * random();
+            let (mut fast, mut exact) = (Vec::new(), Vec::new());
+            capsule_capsule(&a, &b, margin, &mut fast);
+            reference(&a, &b, margin, &mut exact);
+            assert_eq!(fast, exact, "pair {i}");
+            touching += !exact.is_empty() as u32;
+            let (da, db) = (2.0 * a.half_axis, 2.0 * b.half_axis);
+            let c = da.cross(db);
+            let across = (b.position - a.position).dot(c);
+            let (ra, rb) = (a.segment().unwrap().2, b.segment().unwrap().2);
+            let touch = 1.1 * (ra + rb + margin);
+            let line_cut = c.length_squared() > 2e-6 * da.length_squared() * db.length_squared()
+                && across * across > touch * touch * c.length_squared();
+            ended_by_line += line_cut as u32;
+        }
+        assert!(touching > 40_000, "{touching} pairs touch");
+        assert!(
+            ended_by_line > 20_000,
+            "{ended_by_line} pairs ended by the line bound"
+        );
+    }
 }
