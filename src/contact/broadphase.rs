@@ -113,6 +113,9 @@ struct CellBox {
     fat: Aabb,
 }
 
+/// Bodies from which the boxes are updated on several threads.
+const PARALLEL_BOXES: usize = 4096;
+
 /// Entries from which the sort runs on several threads.
 const PARALLEL_SORT: usize = 32_768;
 
@@ -195,7 +198,8 @@ fn cell_span(aabb: &Aabb, inverse_cell: f32) -> ([i64; 3], [i64; 3], i64) {
 impl BroadPhase {
     /// Calls `pair(a, b)` for every candidate pair (a < b in the world's order for finite pairs;
     /// the half-space first for half-space pairs). At least one body of each pair is dynamic,
-    /// and one moves (awake dynamic, or kinematic with a velocity).
+    /// and one moves (awake dynamic, or kinematic with a velocity). The same as [`Self::update`],
+    /// then [`Self::report_kept`] over all kept pairs and [`Self::report_others`].
     pub fn find_pairs(
         &mut self,
         bodies: &[Collider],
@@ -203,6 +207,15 @@ impl BroadPhase {
         margin: f32,
         mut pair: impl FnMut(u32, u32),
     ) {
+        if self.update(bodies, dt, margin) {
+            self.report_kept(0..self.kept_len(), &mut pair);
+            self.report_others(bodies, &mut pair);
+        }
+    }
+
+    /// Brings the fat boxes and the kept pairs up to this step's bodies. Returns false when
+    /// nothing moves (then there are no pairs).
+    pub fn update(&mut self, bodies: &[Collider], dt: f32, margin: f32) -> bool {
         let mut rebuild = false;
         if self.proxies.len() + self.half_spaces.len() != bodies.len() {
             self.proxies.clear();
@@ -219,10 +232,8 @@ impl BroadPhase {
             }
             rebuild = true;
         }
-        let mut movable = 0;
-        self.moved.clear();
         self.tight.resize(self.proxies.len(), Aabb::default());
-        for (index, (proxy, tight)) in self.proxies.iter_mut().zip(&mut self.tight).enumerate() {
+        let boxes = |(proxy, tight): (&mut Proxy, &mut Aabb)| {
             let body = &bodies[proxy.body as usize];
             // grown by how far the fastest surface point may travel this frame, spin included
             let grow = margin + dt * (body.linear_velocity.length() + body.spin_bound);
@@ -236,17 +247,30 @@ impl BroadPhase {
                 dynamic: body.kind == BodyKind::Dynamic,
             };
             // a body that wakes or sleeps changes which pairs may touch
-            rebuild |= flags != proxy.flags;
+            let changed = flags != proxy.flags;
             proxy.flags = flags;
             proxy.moved = !proxy.fat.holds_snugly(tight);
             if proxy.moved {
                 proxy.fat = tight.fattened();
-                self.moved.push(index as u32);
             }
-            movable += (body.kind != BodyKind::Fixed) as usize;
-        }
+            (changed, (body.kind != BodyKind::Fixed) as usize)
+        };
+        let either = |(c, m): (bool, usize), (d, n): (bool, usize)| (c || d, m + n);
+        let parallel = self.proxies.len() >= PARALLEL_BOXES && rayon::current_num_threads() > 1;
+        let (changed, movable) = if parallel {
+            use rayon::prelude::*;
+            let each = self.proxies.par_iter_mut().zip(&mut self.tight);
+            each.map(boxes).reduce(|| (false, 0), either)
+        } else {
+            let each = self.proxies.iter_mut().zip(&mut self.tight);
+            each.map(boxes).fold((false, 0), either)
+        };
+        rebuild |= changed;
+        self.moved.clear();
+        let moved = (0..).zip(&self.proxies).filter(|(_, p)| p.moved);
+        self.moved.extend(moved.map(|(i, _)| i));
         if movable == 0 {
-            return; // nothing moves: no pair can change
+            return false; // nothing moves: no pair can change
         }
         if !rebuild && !self.moved.is_empty() {
             rebuild = !self.update_moved();
@@ -254,7 +278,7 @@ impl BroadPhase {
         if rebuild {
             self.rebuild();
         }
-        self.report(bodies, &mut pair);
+        true
     }
 
     /// The fat pairs after the bodies in `moved` got new fat boxes: theirs dropped and found
@@ -465,15 +489,25 @@ impl BroadPhase {
         }
     }
 
-    /// Reports the kept pairs whose tight boxes overlap, then the large boxes' pairs and the
-    /// half-spaces'.
-    fn report(&self, bodies: &[Collider], pair: &mut impl FnMut(u32, u32)) {
+    /// How many fat pairs are kept: [`Self::report_kept`]'s range.
+    pub fn kept_len(&self) -> usize {
+        self.fat_pairs.len()
+    }
+
+    /// Reports the kept pairs `range` (of [`Self::kept_len`]) whose tight boxes overlap, in
+    /// order: ranges that split the kept pairs report them in parts, on several threads.
+    pub fn report_kept(&self, range: std::ops::Range<usize>, mut pair: impl FnMut(u32, u32)) {
         let (proxies, tight) = (&self.proxies, &self.tight);
-        for &(a, b) in &self.fat_pairs {
+        for &(a, b) in &self.fat_pairs[range] {
             if tight[a as usize].overlaps(&tight[b as usize]) {
                 pair(proxies[a as usize].body, proxies[b as usize].body);
             }
         }
+    }
+
+    /// Reports the pairs after the kept ones: the large boxes' and the half-spaces'.
+    pub fn report_others(&self, bodies: &[Collider], mut pair: impl FnMut(u32, u32)) {
+        let (proxies, tight) = (&self.proxies, &self.tight);
         for (i, &large) in self.large.iter().enumerate() {
             let a = &proxies[large as usize];
             for (index, b) in proxies.iter().enumerate() {
@@ -740,6 +774,41 @@ mod tests {
             updates >= 40,
             "{updates} of 60 steps updated without a rebuild"
         );
+    }
+
+    /// The kept pairs reported in parts (as the narrow phase's chunks do), then the others, are
+    /// the pairs `find_pairs` reports, in its order; with a half-space and a large box.
+    #[test]
+    fn kept_pairs_reported_in_parts_are_find_pairs() {
+        let mut random = uniform(31);
+        let plane = Body::new("floor", BodyKind::Fixed, Shape::HalfSpace, 0.0);
+        let wall = Body::new(
+            "wall",
+            BodyKind::Fixed,
+            Shape::Cuboid {
+                half_extents: Vec3::new(40.0, 1.0, 0.2),
+            },
+            0.0,
+        )
+        .with_pose(Vec3::new(5.0, 0.5, 5.0), Quat::IDENTITY);
+        let mut bodies = vec![plane, wall];
+        for _ in 0..3000 {
+            let (x, y, z) = (10.0 * random(), random(), 10.0 * random());
+            bodies.push(ball(x, y, z, 0.05 + 0.1 * random(), BodyKind::Dynamic));
+        }
+        let colliders = colliders(&bodies);
+        let mut whole = Vec::new();
+        let mut broad = BroadPhase::default();
+        broad.find_pairs(&colliders, 1.0 / 60.0, 0.02, |a, b| whole.push((a, b)));
+        assert!(broad.update(&colliders, 1.0 / 60.0, 0.02));
+        let n = broad.kept_len();
+        let mut parts = Vec::new();
+        for range in [0..n / 3, n / 3..n / 3, n / 3..n - 1, n - 1..n] {
+            broad.report_kept(range, |a, b| parts.push((a, b)));
+        }
+        broad.report_others(&colliders, |a, b| parts.push((a, b)));
+        assert!(whole.len() > 3000 && whole.iter().any(|&(a, _)| a == 0));
+        assert_eq!(parts, whole);
     }
 
     /// A world large enough for the parallel sort and chunked cells: the same pairs in the
