@@ -34,7 +34,7 @@
 //! a few cells (see the `contact_detection` benchmark). A one-axis sweep, which this replaced,
 //! grows as `n^1.5` on a square floor of ragdolls.
 
-use super::collider::Collider;
+use super::collider::{Collider, PARALLEL_BODIES};
 use crate::body::BodyKind;
 use crate::math::Vec3;
 use crate::shape::Shape;
@@ -112,9 +112,6 @@ struct CellBox {
     flags: Flags,
     fat: Aabb,
 }
-
-/// Bodies from which the boxes are updated on several threads.
-const PARALLEL_BOXES: usize = 4096;
 
 /// Entries from which the sort runs on several threads.
 const PARALLEL_SORT: usize = 32_768;
@@ -256,7 +253,7 @@ impl BroadPhase {
             (changed, (body.kind != BodyKind::Fixed) as usize)
         };
         let either = |(c, m): (bool, usize), (d, n): (bool, usize)| (c || d, m + n);
-        let parallel = self.proxies.len() >= PARALLEL_BOXES && rayon::current_num_threads() > 1;
+        let parallel = self.proxies.len() >= PARALLEL_BODIES && rayon::current_num_threads() > 1;
         let (changed, movable) = if parallel {
             use rayon::prelude::*;
             let each = self.proxies.par_iter_mut().zip(&mut self.tight);

@@ -102,12 +102,15 @@ impl Collider {
 
 const _: () = assert!(std::mem::size_of::<Collider>() == 112);
 
+/// A world of at least this many bodies builds its records and boxes on several threads (a
+/// small one would spend more waiting for the threads than it saves).
+pub const PARALLEL_BODIES: usize = 4096;
+
 /// Refills `colliders` from `bodies` (on several threads for a large world; each record is
 /// its body's alone, so the result is the same).
 pub fn build(bodies: &[Body], colliders: &mut Vec<Collider>) {
-    const PARALLEL: usize = 4096;
     colliders.clear();
-    if bodies.len() >= PARALLEL && rayon::current_num_threads() > 1 {
+    if bodies.len() >= PARALLEL_BODIES && rayon::current_num_threads() > 1 {
         use rayon::prelude::*;
         colliders.par_extend(bodies.par_iter().map(Collider::new));
     } else {

@@ -7,7 +7,7 @@
 //! buffer, concatenated in pair order, so the points come out the same for any thread count.
 
 use super::broadphase::BroadPhase;
-use super::collider::{self, Collider};
+use super::collider::{self, Collider, PARALLEL_BODIES};
 use super::feature::Feature;
 use super::handover::Handover;
 use super::{manifold, narrowphase, ContactPoint, PARALLEL_PAIRS};
@@ -59,7 +59,7 @@ impl Detection {
             broad_phase.report_others(colliders, |a, b| others.push((a, b)));
             broad_phase.kept_len()
         };
-        let kept = if rayon::current_num_threads() > 1 {
+        let kept = if rayon::current_num_threads() > 1 && bodies.len() >= PARALLEL_BODIES {
             rayon::join(|| handover.take(points, bodies.len()), broad).1
         } else {
             handover.take(points, bodies.len());
