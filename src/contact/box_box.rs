@@ -18,8 +18,8 @@
 //! reference corner is where two side planes meet), as Box2D v3's clip ids do. An edge point
 //! names the two edge directions and which of the four parallel edges of each box supports it.
 
+use super::collider::Collider;
 use super::feature::{closest_points_on_segments, Feature, FeatureId};
-use crate::body::Body;
 use crate::math::Vec3;
 
 /// An edge axis must separate by this much more (m) than the best face axis to be used.
@@ -39,7 +39,7 @@ struct Oriented {
 }
 
 impl Oriented {
-    fn new(body: &Body, half: Vec3) -> Self {
+    fn new(body: &Collider, half: Vec3) -> Self {
         let q = body.orientation;
         Oriented {
             centre: body.position,
@@ -97,9 +97,9 @@ enum Axis {
 
 /// Contacts between boxes a and b within `margin`; normals point from a to b.
 pub fn box_box(
-    a: &Body,
+    a: &Collider,
     half_a: Vec3,
-    b: &Body,
+    b: &Collider,
     half_b: Vec3,
     margin: f32,
     out: &mut Vec<Feature>,
@@ -306,18 +306,14 @@ impl Polygon {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::body::BodyKind;
+    use crate::body::{Body, BodyKind};
     use crate::math::Quat;
     use crate::shape::Shape;
 
-    fn cuboid(half: Vec3, position: Vec3, orientation: Quat) -> Body {
-        Body::new(
-            "box",
-            BodyKind::Dynamic,
-            Shape::Cuboid { half_extents: half },
-            1.0,
-        )
-        .with_pose(position, orientation)
+    fn cuboid(half: Vec3, position: Vec3, orientation: Quat) -> Collider {
+        let shape = Shape::Cuboid { half_extents: half };
+        let body = Body::new("box", BodyKind::Dynamic, shape, 1.0);
+        Collider::new(&body.with_pose(position, orientation))
     }
 
     #[test]
@@ -338,7 +334,7 @@ mod tests {
     }
 
     /// The ids of a pair's points, sorted, and checked unique.
-    fn ids(a: &Body, b: &Body, half: Vec3) -> Vec<FeatureId> {
+    fn ids(a: &Collider, b: &Collider, half: Vec3) -> Vec<FeatureId> {
         let mut out = Vec::new();
         box_box(a, half, b, half, 0.02, &mut out);
         let mut ids: Vec<FeatureId> = out.iter().map(|f| f.id).collect();

@@ -34,7 +34,8 @@
 //! a few cells (see the `contact_detection` benchmark). A one-axis sweep, which this replaced,
 //! grows as `n^1.5` on a square floor of ragdolls.
 
-use crate::body::{Body, BodyKind};
+use super::collider::{Collider, PARALLEL_BODIES};
+use crate::body::BodyKind;
 use crate::math::Vec3;
 use crate::shape::Shape;
 
@@ -194,14 +195,24 @@ fn cell_span(aabb: &Aabb, inverse_cell: f32) -> ([i64; 3], [i64; 3], i64) {
 impl BroadPhase {
     /// Calls `pair(a, b)` for every candidate pair (a < b in the world's order for finite pairs;
     /// the half-space first for half-space pairs). At least one body of each pair is dynamic,
-    /// and one moves (awake dynamic, or kinematic with a velocity).
+    /// and one moves (awake dynamic, or kinematic with a velocity). The same as [`Self::update`],
+    /// then [`Self::report_kept`] over all kept pairs and [`Self::report_others`].
     pub fn find_pairs(
         &mut self,
-        bodies: &[Body],
+        bodies: &[Collider],
         dt: f32,
         margin: f32,
         mut pair: impl FnMut(u32, u32),
     ) {
+        if self.update(bodies, dt, margin) {
+            self.report_kept(0..self.kept_len(), &mut pair);
+            self.report_others(bodies, &mut pair);
+        }
+    }
+
+    /// Brings the fat boxes and the kept pairs up to this step's bodies. Returns false when
+    /// nothing moves (then there are no pairs).
+    pub fn update(&mut self, bodies: &[Collider], dt: f32, margin: f32) -> bool {
         let mut rebuild = false;
         if self.proxies.len() + self.half_spaces.len() != bodies.len() {
             self.proxies.clear();
@@ -218,34 +229,45 @@ impl BroadPhase {
             }
             rebuild = true;
         }
-        let mut movable = 0;
-        self.moved.clear();
         self.tight.resize(self.proxies.len(), Aabb::default());
-        for (index, (proxy, tight)) in self.proxies.iter_mut().zip(&mut self.tight).enumerate() {
+        let boxes = |(proxy, tight): (&mut Proxy, &mut Aabb)| {
             let body = &bodies[proxy.body as usize];
             // grown by how far the fastest surface point may travel this frame, spin included
-            let grow = margin + dt * (body.linear_velocity.length() + body.spin_speed_bound());
-            let half = body.shape.world_half_extents(body.orientation) + Vec3::splat(grow);
+            let grow = margin + dt * (body.linear_velocity.length() + body.spin_bound);
+            let half = body.world_half_extents() + Vec3::splat(grow);
             *tight = Aabb {
                 min: (body.position - half).to_array(),
                 max: (body.position + half).to_array(),
             };
             let flags = Flags {
-                active: body.moves_this_step(),
+                active: body.moves,
                 dynamic: body.kind == BodyKind::Dynamic,
             };
             // a body that wakes or sleeps changes which pairs may touch
-            rebuild |= flags != proxy.flags;
+            let changed = flags != proxy.flags;
             proxy.flags = flags;
             proxy.moved = !proxy.fat.holds_snugly(tight);
             if proxy.moved {
                 proxy.fat = tight.fattened();
-                self.moved.push(index as u32);
             }
-            movable += (body.kind != BodyKind::Fixed) as usize;
-        }
+            (changed, (body.kind != BodyKind::Fixed) as usize)
+        };
+        let either = |(c, m): (bool, usize), (d, n): (bool, usize)| (c || d, m + n);
+        let parallel = self.proxies.len() >= PARALLEL_BODIES && rayon::current_num_threads() > 1;
+        let (changed, movable) = if parallel {
+            use rayon::prelude::*;
+            let each = self.proxies.par_iter_mut().zip(&mut self.tight);
+            each.map(boxes).reduce(|| (false, 0), either)
+        } else {
+            let each = self.proxies.iter_mut().zip(&mut self.tight);
+            each.map(boxes).fold((false, 0), either)
+        };
+        rebuild |= changed;
+        self.moved.clear();
+        let moved = (0..).zip(&self.proxies).filter(|(_, p)| p.moved);
+        self.moved.extend(moved.map(|(i, _)| i));
         if movable == 0 {
-            return; // nothing moves: no pair can change
+            return false; // nothing moves: no pair can change
         }
         if !rebuild && !self.moved.is_empty() {
             rebuild = !self.update_moved();
@@ -253,7 +275,7 @@ impl BroadPhase {
         if rebuild {
             self.rebuild();
         }
-        self.report(bodies, &mut pair);
+        true
     }
 
     /// The fat pairs after the bodies in `moved` got new fat boxes: theirs dropped and found
@@ -464,15 +486,25 @@ impl BroadPhase {
         }
     }
 
-    /// Reports the kept pairs whose tight boxes overlap, then the large boxes' pairs and the
-    /// half-spaces'.
-    fn report(&self, bodies: &[Body], pair: &mut impl FnMut(u32, u32)) {
+    /// How many fat pairs are kept: [`Self::report_kept`]'s range.
+    pub fn kept_len(&self) -> usize {
+        self.fat_pairs.len()
+    }
+
+    /// Reports the kept pairs `range` (of [`Self::kept_len`]) whose tight boxes overlap, in
+    /// order: ranges that split the kept pairs report them in parts, on several threads.
+    pub fn report_kept(&self, range: std::ops::Range<usize>, mut pair: impl FnMut(u32, u32)) {
         let (proxies, tight) = (&self.proxies, &self.tight);
-        for &(a, b) in &self.fat_pairs {
+        for &(a, b) in &self.fat_pairs[range] {
             if tight[a as usize].overlaps(&tight[b as usize]) {
                 pair(proxies[a as usize].body, proxies[b as usize].body);
             }
         }
+    }
+
+    /// Reports the pairs after the kept ones: the large boxes' and the half-spaces'.
+    pub fn report_others(&self, bodies: &[Collider], mut pair: impl FnMut(u32, u32)) {
+        let (proxies, tight) = (&self.proxies, &self.tight);
         for (i, &large) in self.large.iter().enumerate() {
             let a = &proxies[large as usize];
             for (index, b) in proxies.iter().enumerate() {
@@ -526,7 +558,12 @@ fn merge_sorted(kept: &[(u32, u32)], found: &[(u32, u32)], out: &mut Vec<(u32, u
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::body::Body;
     use crate::math::{Quat, Vec3};
+
+    fn colliders(bodies: &[Body]) -> Vec<Collider> {
+        bodies.iter().map(Collider::new).collect()
+    }
 
     /// A reproducible uniform sequence in [0, 1) (a linear congruential generator).
     fn uniform(mut seed: u32) -> impl FnMut() -> f32 {
@@ -576,7 +613,9 @@ mod tests {
             bodies.push(Body::new("b", kind, shape, 1.0).with_pose(position, orientation));
         }
         let mut found = Vec::new();
-        BroadPhase::default().find_pairs(&bodies, 1.0 / 60.0, 0.02, |a, b| found.push((a, b)));
+        BroadPhase::default().find_pairs(&colliders(&bodies), 1.0 / 60.0, 0.02, |a, b| {
+            found.push((a, b))
+        });
         let count = found.len();
         found.sort_unstable();
         found.dedup();
@@ -627,7 +666,8 @@ mod tests {
         }
         let (dt, margin) = (1.0 / 60.0, 0.02);
         let mut found = Vec::new();
-        BroadPhase::default().find_pairs(&bodies, dt, margin, |a, b| found.push((a, b)));
+        BroadPhase::default()
+            .find_pairs(&colliders(&bodies), dt, margin, |a, b| found.push((a, b)));
         let mut contacts = 0;
         let mut features = Vec::new();
         for a in 0..bodies.len() {
@@ -636,7 +676,8 @@ mod tests {
                 // the narrow phase's reach (contact::PairContext::collide_all)
                 let reach = margin + dt * (p.linear_velocity - q.linear_velocity).length();
                 features.clear();
-                if super::super::narrowphase::collide(p, q, reach, &mut features) {
+                let (p, q) = (Collider::new(p), Collider::new(q));
+                if super::super::narrowphase::collide(&p, &q, reach, &mut features) {
                     contacts += 1;
                     let pair = (a as u32, b as u32);
                     assert!(
@@ -715,10 +756,13 @@ mod tests {
             }
             let rebuilds = kept.rebuilds;
             let mut incremental = Vec::new();
-            kept.find_pairs(&bodies, dt, margin, |a, b| incremental.push((a, b)));
+            kept.find_pairs(&colliders(&bodies), dt, margin, |a, b| {
+                incremental.push((a, b))
+            });
             updates += (kept.rebuilds == rebuilds) as u32;
             let mut fresh = Vec::new();
-            BroadPhase::default().find_pairs(&bodies, dt, margin, |a, b| fresh.push((a, b)));
+            BroadPhase::default()
+                .find_pairs(&colliders(&bodies), dt, margin, |a, b| fresh.push((a, b)));
             assert!(fresh.len() > 1000, "step {step}: {} pairs", fresh.len());
             assert_eq!(incremental, fresh, "step {step}");
         }
@@ -727,6 +771,41 @@ mod tests {
             updates >= 40,
             "{updates} of 60 steps updated without a rebuild"
         );
+    }
+
+    /// The kept pairs reported in parts (as the narrow phase's chunks do), then the others, are
+    /// the pairs `find_pairs` reports, in its order; with a half-space and a large box.
+    #[test]
+    fn kept_pairs_reported_in_parts_are_find_pairs() {
+        let mut random = uniform(31);
+        let plane = Body::new("floor", BodyKind::Fixed, Shape::HalfSpace, 0.0);
+        let wall = Body::new(
+            "wall",
+            BodyKind::Fixed,
+            Shape::Cuboid {
+                half_extents: Vec3::new(40.0, 1.0, 0.2),
+            },
+            0.0,
+        )
+        .with_pose(Vec3::new(5.0, 0.5, 5.0), Quat::IDENTITY);
+        let mut bodies = vec![plane, wall];
+        for _ in 0..3000 {
+            let (x, y, z) = (10.0 * random(), random(), 10.0 * random());
+            bodies.push(ball(x, y, z, 0.05 + 0.1 * random(), BodyKind::Dynamic));
+        }
+        let colliders = colliders(&bodies);
+        let mut whole = Vec::new();
+        let mut broad = BroadPhase::default();
+        broad.find_pairs(&colliders, 1.0 / 60.0, 0.02, |a, b| whole.push((a, b)));
+        assert!(broad.update(&colliders, 1.0 / 60.0, 0.02));
+        let n = broad.kept_len();
+        let mut parts = Vec::new();
+        for range in [0..n / 3, n / 3..n / 3, n / 3..n - 1, n - 1..n] {
+            broad.report_kept(range, |a, b| parts.push((a, b)));
+        }
+        broad.report_others(&colliders, |a, b| parts.push((a, b)));
+        assert!(whole.len() > 3000 && whole.iter().any(|&(a, _)| a == 0));
+        assert_eq!(parts, whole);
     }
 
     /// A world large enough for the parallel sort and chunked cells: the same pairs in the
@@ -748,7 +827,9 @@ mod tests {
             pool.install(|| {
                 let mut found = Vec::new();
                 let mut broad = BroadPhase::default();
-                broad.find_pairs(&bodies, 1.0 / 60.0, 0.02, |a, b| found.push((a, b)));
+                broad.find_pairs(&colliders(&bodies), 1.0 / 60.0, 0.02, |a, b| {
+                    found.push((a, b))
+                });
                 assert!(
                     broad.entries.len() >= PARALLEL_SORT,
                     "{}",

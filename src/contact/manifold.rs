@@ -16,6 +16,7 @@
 //! the old body-space anchors lets a rolling body roll: its contact point moves over the
 //! surface every step while the offset stays near zero.
 
+use super::collider::Collider;
 use super::feature::Feature;
 use super::ContactPoint;
 use crate::body::Body;
@@ -75,8 +76,8 @@ pub fn reduce(points: &mut Vec<Feature>, first: usize) {
 /// shifted by the anchors' tangential offset at the current poses (see the module docs).
 pub fn carried_anchors(
     previous: (Vec3, Vec3),
-    a: &Body,
-    b: &Body,
+    a: &Collider,
+    b: &Collider,
     normal: Vec3,
     local: (Vec3, Vec3),
 ) -> (Vec3, Vec3) {

@@ -31,7 +31,10 @@
 
 pub mod box_box;
 pub mod broadphase;
+pub mod collider;
+pub mod detect;
 pub mod feature;
+pub mod handover;
 pub mod lanes;
 pub mod manifold;
 pub mod narrowphase;
@@ -40,8 +43,8 @@ use crate::body::{Body, BodyId};
 use crate::constraint::Constraint;
 use crate::math::Vec3;
 use crate::solver_body::{pair_mut, SharedSlice, SolverBody};
-use broadphase::BroadPhase;
-use feature::{Feature, FeatureId};
+use detect::Detection;
+use feature::FeatureId;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContactPoint {
@@ -192,104 +195,17 @@ impl Softness {
 #[derive(Clone, Debug, Default)]
 pub struct Contacts {
     pub points: Vec<ContactPoint>,
-    /// Last step's points, for their friction anchors, and their `(body pair, index)` sorted:
-    /// sorting the keys rather than the 130-byte points (a tenth of detection in the rain).
-    previous: Vec<ContactPoint>,
-    previous_by_pair: Vec<(u64, u32)>,
-    broad_phase: BroadPhase,
-    pairs: Vec<(u32, u32)>,
-    chunks: Vec<ChunkOut>,
-    /// Bodies that never collide with body `i` (joined to it): `excluded[excluded_start[i]..
-    /// excluded_start[i + 1]]`, a handful per body; and the constraint count they were built for.
-    excluded: Vec<u32>,
-    excluded_start: Vec<u32>,
-    excluded_for: usize,
+    detection: Detection,
     /// Substeps begun since the last detection.
     substeps_begun: u32,
 }
 
 impl Contacts {
-    /// Step 2 of the solver: finds the contact points at the current poses.
+    /// Step 2 of the solver: finds the contact points at the current poses ([`detect`]).
     pub fn detect(&mut self, bodies: &[Body], constraints: &[Constraint], dt: f32, margin: f32) {
-        if self.excluded_for != constraints.len() || self.excluded_start.len() != bodies.len() + 1 {
-            self.build_exclusions(bodies.len(), constraints);
-        }
         self.substeps_begun = 0;
-        std::mem::swap(&mut self.points, &mut self.previous);
-        // the index breaks ties: the solver reorders points by colour but keeps a pair's points
-        // in the order they were found, which decides which one hands over its anchors
-        self.previous_by_pair.clear();
-        self.previous_by_pair.extend(
-            (self.previous.iter().enumerate())
-                .map(|(i, p)| (pair_key(p.body_a, p.body_b), i as u32)),
-        );
-        self.previous_by_pair.sort_unstable();
-        self.points.clear();
-        self.pairs.clear();
-        let pairs = &mut self.pairs;
-        self.broad_phase
-            .find_pairs(bodies, dt, margin, |a, b| pairs.push((a, b)));
-        // Narrow phase: pairs in chunks, each into its own reused buffer, concatenated in
-        // pair order, so the points come out the same for any thread count.
-        let chunks = if rayon::current_num_threads() > 1 && self.pairs.len() >= PARALLEL_PAIRS {
-            4 * rayon::current_num_threads()
-        } else {
-            1
-        };
-        let chunk_len = self.pairs.len().div_ceil(chunks).max(1);
-        if self.chunks.len() < chunks {
-            self.chunks.resize_with(chunks, Default::default);
-        }
-        let found = PairContext {
-            bodies,
-            previous: &self.previous,
-            previous_by_pair: &self.previous_by_pair,
-            excluded: &self.excluded,
-            excluded_start: &self.excluded_start,
-            dt,
-            margin,
-        };
-        if chunks > 1 {
-            use rayon::prelude::*;
-            self.pairs
-                .par_chunks(chunk_len)
-                .zip(self.chunks.par_iter_mut())
-                .for_each(|(pairs, out)| found.collide_all(pairs, out));
-        } else {
-            found.collide_all(&self.pairs, &mut self.chunks[0]);
-        }
-        let used = self.pairs.len().div_ceil(chunk_len).max(1);
-        for out in &self.chunks[..used] {
-            self.points.extend_from_slice(&out.points);
-        }
-    }
-
-    /// Rebuilds the per-body lists of joined bodies (each pair under its lower body index).
-    fn build_exclusions(&mut self, body_count: usize, constraints: &[Constraint]) {
-        let joined = || {
-            constraints.iter().filter_map(|c| {
-                let connected = matches!(c, Constraint::BallSocket(j) if j.collide_connected);
-                let (a, b) = c.bodies();
-                (!connected).then_some((a.0.min(b.0), a.0.max(b.0)))
-            })
-        };
-        self.excluded_start.clear();
-        self.excluded_start.resize(body_count + 1, 0);
-        for (low, _) in joined() {
-            self.excluded_start[low as usize + 1] += 1;
-        }
-        for i in 0..body_count {
-            self.excluded_start[i + 1] += self.excluded_start[i];
-        }
-        self.excluded.clear();
-        self.excluded
-            .resize(self.excluded_start[body_count] as usize, 0);
-        let mut filled = self.excluded_start.clone();
-        for (low, high) in joined() {
-            self.excluded[filled[low as usize] as usize] = high;
-            filled[low as usize] += 1;
-        }
-        self.excluded_for = constraints.len();
+        self.detection
+            .detect(&mut self.points, bodies, constraints, dt, margin);
     }
 
     /// Starts a substep: the accumulated impulses count one substep's pushes (the projection's
@@ -485,111 +401,5 @@ fn relative_normal_velocity(a: &Body, b: &Body, point_a: Vec3, point_b: Vec3, no
     (velocity(b, point_b) - velocity(a, point_a)).dot(normal)
 }
 
-/// A body pair as one sortable key, `a` in the high half.
-fn pair_key(a: BodyId, b: BodyId) -> u64 {
-    (a.0 as u64) << 32 | b.0 as u64
-}
-
 /// Pairs with at least this many candidates run the narrow phase on several threads.
 const PARALLEL_PAIRS: usize = 2048;
-
-/// One chunk's output of the narrow phase, reused from frame to frame.
-#[derive(Clone, Debug, Default)]
-struct ChunkOut {
-    points: Vec<ContactPoint>,
-    features: Vec<Feature>,
-}
-
-/// What the narrow phase of one pair reads.
-struct PairContext<'a> {
-    bodies: &'a [Body],
-    previous: &'a [ContactPoint],
-    previous_by_pair: &'a [(u64, u32)],
-    excluded: &'a [u32],
-    excluded_start: &'a [u32],
-    dt: f32,
-    margin: f32,
-}
-
-impl PairContext<'_> {
-    /// The contact points of `pairs` (filtered, then the narrow phase) into `out`.
-    fn collide_all(&self, pairs: &[(u32, u32)], out: &mut ChunkOut) {
-        out.points.clear();
-        for &(a, b) in pairs {
-            let (first, last) = (a.min(b) as usize, a.max(b));
-            let range =
-                self.excluded_start[first] as usize..self.excluded_start[first + 1] as usize;
-            if self.excluded[range].contains(&last) {
-                continue;
-            }
-            let (body_a, body_b) = (&self.bodies[a as usize], &self.bodies[b as usize]);
-            if body_a.collision_group & body_b.collision_mask == 0
-                || body_b.collision_group & body_a.collision_mask == 0
-            {
-                continue;
-            }
-            // how far the two surfaces may close this frame: the relative speed of the centres
-            // plus what spin adds at the farthest surface point (a limb spinning at 20 rad/s
-            // moves its tip 5 cm a frame further than its centre)
-            let closing = (body_a.linear_velocity - body_b.linear_velocity).length()
-                + body_a.spin_speed_bound()
-                + body_b.spin_speed_bound();
-            let reach = self.margin + self.dt * closing;
-            out.features.clear();
-            if !narrowphase::collide(body_a, body_b, reach, &mut out.features) {
-                continue;
-            }
-            let static_friction = (body_a.static_friction * body_b.static_friction).sqrt();
-            let dynamic_friction = (body_a.dynamic_friction * body_b.dynamic_friction).sqrt();
-            let restitution = body_a.restitution.max(body_b.restitution);
-            let previous = {
-                let key = pair_key(BodyId(a), BodyId(b));
-                let by_pair = self.previous_by_pair;
-                let start = by_pair.partition_point(|&(k, _)| k < key);
-                let end = start + by_pair[start..].partition_point(|&(k, _)| k == key);
-                by_pair[start..end]
-                    .iter()
-                    .map(|&(_, i)| &self.previous[i as usize])
-            };
-            manifold::reduce(&mut out.features, 0);
-            for f in &out.features {
-                let local_a = body_a.orientation.inverse() * (f.point_a - body_a.position);
-                let local_b = body_b.orientation.inverse() * (f.point_b - body_b.position);
-                let same = previous.clone().find(|p| p.id == f.id);
-                let warm_impulse = same.map_or(0.0, |p| p.normal_impulse);
-                let kept = same.filter(|p| p.sticking);
-                let (anchor_a, anchor_b) = kept.map_or((local_a, local_b), |p| {
-                    let anchors = (p.anchor_a, p.anchor_b);
-                    manifold::carried_anchors(anchors, body_a, body_b, f.normal, (local_a, local_b))
-                });
-                out.points.push(ContactPoint {
-                    body_a: BodyId(a),
-                    body_b: BodyId(b),
-                    id: f.id,
-                    normal: f.normal,
-                    local_a,
-                    local_b,
-                    arm_a: f.point_a - body_a.position,
-                    arm_b: f.point_b - body_b.position,
-                    anchor_a,
-                    anchor_b,
-                    sticking: true,
-                    touched: false,
-                    static_friction,
-                    dynamic_friction,
-                    restitution,
-                    approach_speed: relative_normal_velocity(
-                        body_a, body_b, f.point_a, f.point_b, f.normal,
-                    ),
-                    allowed_penetration: 0.0,
-                    compliance: 0.0,
-                    damping: 0.0,
-                    start_separation: 0.0,
-                    normal_impulse: warm_impulse,
-                    warm_impulse: 0.0,
-                    friction_impulse: 0.0,
-                });
-            }
-        }
-    }
-}
