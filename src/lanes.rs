@@ -553,8 +553,10 @@ impl<L: Lane> BodyLanes<L> {
     #[inline(always)]
     pub unsafe fn gather(bodies: SharedBodies, index: &[u32]) -> Self {
         // straight from the bodies' memory: no copies, one load per group of four floats
+        // only the first W entries are read: the rest repeat body 0 without another lookup
+        let first = bodies.quads(index[0]);
         let quads: [&[[f32; 4]; 6]; MAX_LANES] =
-            std::array::from_fn(|i| bodies.quads(index[i % L::W]));
+            std::array::from_fn(|i| if i < L::W { bodies.quads(index[i]) } else { first });
         // group k of every body, transposed: four fields in lanes
         let group = |k: usize| L::transpose4(std::array::from_fn(|i| &quads[i][k]));
         let [qx, qy, qz, qw] = group(0);
