@@ -126,6 +126,7 @@ mod tests {
             anchor_a: Vec3::ZERO,
             anchor_b: Vec3::ZERO,
             sticking: true,
+            touched: false,
             approach_speed: 0.0,
             allowed_penetration: 0.0,
             compliance: 0.0,
