@@ -13,6 +13,7 @@ use rodlab::constraint::rod_lanes::RodLanes;
 use rodlab::constraint::{AngularLimit, BallSocket, JointFlavour, JointRow, Rod, RodRow};
 use rodlab::contact::lanes::ContactLanes;
 use rodlab::contact::{ContactPoint, Contacts, Softness};
+use rodlab::lanes::Lane;
 use rodlab::math::{Quat, Vec3};
 use rodlab::ragdoll::SpineKind;
 use rodlab::scene::Scene;
@@ -185,15 +186,12 @@ impl<T: Clone, L4, L8, L16> Packed<T, L4, L8, L16> {
     }
 
     /// One solve of every row: scalar from the rows, or from the packed lanes.
-    fn solve(
-        &mut self,
-        width: Width,
-        scalar: fn(&mut T, &mut SolverBody, &mut SolverBody),
-        lanes4: fn(&mut L4, SharedBodies),
-        lanes8: fn(&mut L8, SharedBodies),
-        lanes16: fn(&mut L16, SharedBodies),
-    ) where
+    fn solve(&mut self, width: Width)
+    where
         T: Row,
+        L4: Lanes,
+        L8: Lanes,
+        L16: Lanes,
     {
         let shared = SharedBodies::new(&mut self.bodies);
         match width {
@@ -201,13 +199,36 @@ impl<T: Clone, L4, L8, L16> Packed<T, L4, L8, L16> {
                 for row in &mut self.rows {
                     let (a, b) = row.bodies();
                     // SAFETY: the benchmark's rows share no body, and one thread runs them.
-                    unsafe { shared.with_pair(a, b, |a, b| scalar(row, a, b)) };
+                    unsafe { shared.with_pair(a, b, |a, b| row.solve(a, b)) };
                 }
             }
-            Width::W4 => self.w4.iter_mut().for_each(|l| lanes4(l, shared)),
-            Width::W8 => self.w8.iter_mut().for_each(|l| lanes8(l, shared)),
-            Width::W16 => self.w16.iter_mut().for_each(|l| lanes16(l, shared)),
+            Width::W4 => self.w4.iter_mut().for_each(|l| l.solve(shared)),
+            Width::W8 => self.w8.iter_mut().for_each(|l| l.solve(shared)),
+            Width::W16 => self.w16.iter_mut().for_each(|l| l.solve(shared)),
         }
+    }
+}
+
+/// A batch of packed lanes of any kind: one solve of its rows.
+trait Lanes {
+    fn solve(&mut self, bodies: SharedBodies);
+}
+
+impl<L: Lane> Lanes for JointLanes<L> {
+    fn solve(&mut self, bodies: SharedBodies) {
+        JointLanes::solve(self, bodies)
+    }
+}
+
+impl<L: Lane> Lanes for RodLanes<L> {
+    fn solve(&mut self, bodies: SharedBodies) {
+        RodLanes::solve(self, bodies)
+    }
+}
+
+impl<L: Lane> Lanes for ContactLanes<L> {
+    fn solve(&mut self, bodies: SharedBodies) {
+        ContactLanes::solve(self, bodies)
     }
 }
 
@@ -258,27 +279,9 @@ impl Batch {
 
     fn solve(&mut self, width: Width) {
         match self {
-            Batch::Joints(p) => p.solve(
-                width,
-                |r, a, b| r.solve(a, b),
-                |l, b| l.solve(b),
-                |l, b| l.solve(b),
-                |l, b| l.solve(b),
-            ),
-            Batch::Rods(p) => p.solve(
-                width,
-                |r, a, b| r.solve(a, b),
-                |l, b| l.solve(b),
-                |l, b| l.solve(b),
-                |l, b| l.solve(b),
-            ),
-            Batch::Contacts(p) => p.solve(
-                width,
-                |r, a, b| r.solve(a, b),
-                |l, b| l.solve(b),
-                |l, b| l.solve(b),
-                |l, b| l.solve(b),
-            ),
+            Batch::Joints(p) => p.solve(width),
+            Batch::Rods(p) => p.solve(width),
+            Batch::Contacts(p) => p.solve(width),
         }
     }
 

@@ -36,6 +36,20 @@ pub fn padded<T>(rows: &[T], i: usize) -> &T {
     &rows[if i < rows.len() { i } else { 0 }]
 }
 
+/// The two body indices of each of `L::W` lanes' rows (padded as [`padded`]).
+#[inline(always)]
+pub fn body_indices<L: Lane, T>(
+    rows: &[T],
+    bodies_of: impl Fn(&T) -> (u32, u32),
+) -> ([u32; MAX_LANES], [u32; MAX_LANES]) {
+    let (mut a, mut b) = ([0u32; MAX_LANES], [0u32; MAX_LANES]);
+    for i in 0..L::W {
+        (a[i], b[i]) = bodies_of(padded(rows, i));
+        debug_assert_ne!(a[i], b[i], "a constraint needs two distinct bodies");
+    }
+    (a, b)
+}
+
 /// Groups of four floats of `W` records turned into four lanes, and back: the transpose that
 /// gathers bodies into lanes (one SSE shuffle network for W = 4).
 pub trait Transpose4: Sized {
@@ -555,8 +569,13 @@ impl<L: Lane> BodyLanes<L> {
         // straight from the bodies' memory: no copies, one load per group of four floats
         // only the first W entries are read: the rest repeat body 0 without another lookup
         let first = bodies.quads(index[0]);
-        let quads: [&[[f32; 4]; 6]; MAX_LANES] =
-            std::array::from_fn(|i| if i < L::W { bodies.quads(index[i]) } else { first });
+        let quads: [&[[f32; 4]; 6]; MAX_LANES] = std::array::from_fn(|i| {
+            if i < L::W {
+                bodies.quads(index[i])
+            } else {
+                first
+            }
+        });
         // group k of every body, transposed: four fields in lanes
         let group = |k: usize| L::transpose4(std::array::from_fn(|i| &quads[i][k]));
         let [qx, qy, qz, qw] = group(0);

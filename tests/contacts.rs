@@ -1005,9 +1005,15 @@ fn a_ten_box_stack_that_may_sleep_stands_within_five_millimetres() {
     assert!(worst < 5e-3, "a box moved {worst} m from its start");
 }
 
-/// A box thrown down onto the floor at `velocity`, with high friction: for each frame, its
-/// horizontal velocity, over the first half second.
-fn thrown_box(velocity: Vec3, substeps: u32, height: f32) -> Vec<f32> {
+/// A 5 kg box on the floor at `substeps` of `20 / substeps` iterations, `height` above it, moving
+/// at `velocity`, box and floor with the friction coefficients `(mu_s, mu_d)`: the world and the
+/// box.
+fn box_on_floor(
+    substeps: u32,
+    height: f32,
+    velocity: Vec3,
+    friction: (f32, f32),
+) -> (World, rodlab::body::BodyId) {
     let mut world = World::new(Settings {
         substeps,
         iterations: 20 / substeps,
@@ -1023,12 +1029,17 @@ fn thrown_box(velocity: Vec3, substeps: u32, height: f32) -> Vec<f32> {
     )
     .with_pose(Vec3::new(0.0, half.y + height, 0.0), Quat::IDENTITY);
     body.linear_velocity = velocity;
-    (body.static_friction, body.dynamic_friction) = (1.0, 0.9);
+    (body.static_friction, body.dynamic_friction) = friction;
     let id = world.add_body(body);
-    (
-        world.bodies[0].static_friction,
-        world.bodies[0].dynamic_friction,
-    ) = (1.0, 0.9);
+    let floor = &mut world.bodies[0];
+    (floor.static_friction, floor.dynamic_friction) = friction;
+    (world, id)
+}
+
+/// A box thrown down onto the floor at `velocity`, with high friction: for each frame, its
+/// horizontal velocity, over the first half second.
+fn thrown_box(velocity: Vec3, substeps: u32, height: f32) -> Vec<f32> {
+    let (mut world, id) = box_on_floor(substeps, height, velocity, (1.0, 0.9));
     (0..30)
         .map(|_| {
             world.step().unwrap();
@@ -1061,27 +1072,8 @@ fn a_box_thrown_onto_a_rough_floor_is_not_thrown_back() {
 /// A box sent sliding along the floor at `v0` with substeps: (the farthest it gets, the fastest
 /// it moves backward, where it ends) along the slide.
 fn sliding_box(v0: f32, mu_d: f32, substeps: u32) -> (f32, f32, f32) {
-    let mut world = World::new(Settings {
-        substeps,
-        iterations: 20 / substeps,
-        ..settings()
-    });
-    plane(&mut world, Quat::IDENTITY);
-    let half = Vec3::new(0.2, 0.1, 0.15);
-    let mut body = Body::new(
-        "box",
-        BodyKind::Dynamic,
-        Shape::Cuboid { half_extents: half },
-        5.0,
-    )
-    .with_pose(Vec3::new(0.0, half.y, 0.0), Quat::IDENTITY);
-    body.linear_velocity = Vec3::new(v0, 0.0, 0.0);
-    (body.static_friction, body.dynamic_friction) = (mu_d + 0.1, mu_d);
-    let id = world.add_body(body);
-    (
-        world.bodies[0].static_friction,
-        world.bodies[0].dynamic_friction,
-    ) = (mu_d + 0.1, mu_d);
+    let velocity = Vec3::new(v0, 0.0, 0.0);
+    let (mut world, id) = box_on_floor(substeps, 0.0, velocity, (mu_d + 0.1, mu_d));
     let (mut farthest, mut backward) = (0.0f32, 0.0f32);
     for _ in 0..90 {
         world.step().unwrap();

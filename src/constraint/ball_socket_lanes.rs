@@ -15,7 +15,7 @@
 //! not normalise (glam's `try_normalize`) falls back to glam's `any_orthonormal_vector`.
 
 use super::{JointFlavour, JointRow};
-use crate::lanes::{padded, BodyLanes, Lane, SymM3, MAX_LANES, Q, V3};
+use crate::lanes::{body_indices, padded, BodyLanes, Lane, SymM3, MAX_LANES, Q, V3};
 use crate::math::Quat;
 use crate::solver_body::SharedBodies;
 use std::f32::consts::{PI, TAU};
@@ -73,17 +73,7 @@ impl<L: Lane> JointLanes<L> {
     pub fn pack(rows: &[JointRow]) -> Self {
         assert!((1..=L::W).contains(&rows.len()), "a batch is one to W rows");
         let row = |i: usize| padded(rows, i);
-        let mut index_a = [0u32; MAX_LANES];
-        let mut index_b = [0u32; MAX_LANES];
-        for i in 0..L::W {
-            let row = row(i);
-            debug_assert_ne!(
-                row.body_a, row.body_b,
-                "a constraint needs two distinct bodies"
-            );
-            index_a[i] = row.body_a;
-            index_b[i] = row.body_b;
-        }
+        let (index_a, index_b) = body_indices::<L, _>(rows, |r| (r.body_a, r.body_b));
         let spring = rows
             .iter()
             .any(|r| r.spring.is_some())

@@ -33,7 +33,7 @@
 //! [`SolverBody::apply_angular_impulse`]: crate::solver_body::SolverBody::apply_angular_impulse
 
 use super::rod::{LengthCorrection, RodRow, TwistMode};
-use crate::lanes::{padded, BodyLanes, Lane, MAX_LANES, Q, V3};
+use crate::lanes::{body_indices, padded, BodyLanes, Lane, MAX_LANES, Q, V3};
 use crate::solver_body::SharedBodies;
 
 /// Solves a batch of rows that share no movable body: W = 4 or 8 lanes when every row uses the
@@ -87,13 +87,7 @@ impl<L: Lane> RodLanes<L> {
         assert!((1..=L::W).contains(&rows.len()), "a batch is one to W rows");
         let row = |i: usize| padded(rows, i);
         debug_assert!(rows.iter().all(is_default_modes));
-        let mut index_a = [0u32; MAX_LANES];
-        let mut index_b = [0u32; MAX_LANES];
-        for i in 0..L::W {
-            let row = row(i);
-            index_a[i] = row.body_a;
-            index_b[i] = row.body_b;
-        }
+        let (index_a, index_b) = body_indices::<L, _>(rows, |r| (r.body_a, r.body_b));
         RodLanes {
             index_a,
             index_b,

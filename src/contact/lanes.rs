@@ -12,7 +12,7 @@
 //! orientation is rebuilt from the same predicted orientation and correction).
 
 use super::ContactPoint;
-use crate::lanes::{padded, BodyLanes, Lane, MAX_LANES, V3};
+use crate::lanes::{body_indices, padded, BodyLanes, Lane, MAX_LANES, V3};
 use crate::solver_body::SharedBodies;
 
 /// Solves `L::W` points at once: packed, solved once, unpacked (the solver packs once a
@@ -60,13 +60,7 @@ impl<L: Lane> ContactLanes<L> {
     pub fn pack(rows: &[ContactPoint]) -> Self {
         assert!((1..=L::W).contains(&rows.len()), "a batch is one to W rows");
         let row = |i: usize| padded(rows, i);
-        let mut index_a = [0u32; MAX_LANES];
-        let mut index_b = [0u32; MAX_LANES];
-        for i in 0..L::W {
-            let p = row(i);
-            index_a[i] = p.body_a.0;
-            index_b[i] = p.body_b.0;
-        }
+        let (index_a, index_b) = body_indices::<L, _>(rows, |p| (p.body_a.0, p.body_b.0));
         ContactLanes {
             index_a,
             index_b,
