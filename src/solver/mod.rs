@@ -32,8 +32,9 @@
 //!       kind colour by colour (the humanoid builder appends a ragdoll's rod before its
 //!       joints, so for ragdolls this is their stored order); within a colour rows are
 //!       independent, so they are solved [`SolverKind::Scalar`] one by one or
-//!       [`SolverKind::Simd`] W at a time, and on several threads when a colour is large
-//!       enough ([`PARALLEL_MIN_ROWS`]);
+//!       [`SolverKind::Simd`] W at a time from lanes packed once before the iterations (and
+//!       the contacts' impulses unpacked after them: [`packed`]), and on several threads when
+//!       a colour is large enough ([`PARALLEL_MIN_ROWS`]);
 //!    4. derive the velocities `v = (p* - p) / h`, `w = log(q* q^-1) / h` and commit the poses
 //!       back to the [`Body`]s;
 //!    5. the contacts' velocity pass: each contact that pushed in this substep leaves with zero
