@@ -185,6 +185,13 @@ impl<T: Clone, L4, L8, L16> Packed<T, L4, L8, L16> {
         }
     }
 
+    /// Packs the rows into the existing 8-lane batches again (no allocation in the timing).
+    fn repack8(&mut self, pack: fn(&[T]) -> L8) {
+        for (lanes, rows) in self.w8.iter_mut().zip(self.rows.chunks_exact(8)) {
+            *lanes = pack(rows);
+        }
+    }
+
     /// One solve of every row: scalar from the rows, or from the packed lanes.
     fn solve(&mut self, width: Width)
     where
@@ -288,9 +295,9 @@ impl Batch {
     /// Packs every row into 8 lanes again (what the SIMD solver does once a substep).
     fn pack8(&mut self) {
         match self {
-            Batch::Joints(p) => p.w8 = p.rows.chunks_exact(8).map(JointLanes::pack).collect(),
-            Batch::Rods(p) => p.w8 = p.rows.chunks_exact(8).map(RodLanes::pack).collect(),
-            Batch::Contacts(p) => p.w8 = p.rows.chunks_exact(8).map(ContactLanes::pack).collect(),
+            Batch::Joints(p) => p.repack8(JointLanes::pack),
+            Batch::Rods(p) => p.repack8(RodLanes::pack),
+            Batch::Contacts(p) => p.repack8(ContactLanes::pack),
         }
     }
 }

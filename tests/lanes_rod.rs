@@ -1,22 +1,25 @@
 //! The rod's lane kernel (`src/constraint/rod_lanes.rs`) against the scalar `RodRow::solve`:
 //!
-//! 1. one `solve_batch` call (W = 4) on perturbed rods (bent, twisted, stretched, compressed,
+//! 1. one `solve_lanes::<f32x4>` call on perturbed rods (bent, twisted, stretched, compressed,
 //!    near-straight with psi ~ 1e-4, strongly bent, alpha_b / alpha_t zero and not, a static
 //!    body in one lane) agrees with four scalar solves to 1e-5 m in positions and 1e-4 in
 //!    quaternion components;
 //! 2. `solve_lanes::<f32x8>` on eight such rods agrees the same way;
 //! 3. 20 repeated batch solves bring every rod's curve and length errors below 1e-4, like 20
 //!    scalar solves;
-//! 4. rows in a non-default mode fall back to the scalar kernel exactly;
+//! 4. in the SIMD solver's packed sweep, a batch with rows in a non-default mode falls back to
+//!    the scalar kernel exactly;
 //! 5. (printed with `--nocapture`) ns per rod for scalar, W = 4 and W = 8.
 
 use rodlab::body::{Body, BodyId, BodyKind};
 use rodlab::constraint::rod::{curve_error, length_error};
-use rodlab::constraint::rod_lanes::{solve_batch, solve_lanes, solve_scalar};
+use rodlab::constraint::rod_lanes::{solve_lanes, solve_scalar};
 use rodlab::constraint::{LengthCorrection, Rod, RodRow, TwistMode};
 use rodlab::math::{rotate_by_small, Quat, Vec3};
 use rodlab::shape::{Axis, Shape};
 use rodlab::solver::body::{SharedBodies, SolverBody};
+use rodlab::solver::graph::Colours;
+use rodlab::solver::packed::Packed;
 use std::time::Instant;
 
 /// How one rod of the set is perturbed from its straight rest pose.
@@ -155,7 +158,7 @@ fn lane_pass(bodies: &mut [SolverBody], rows: &mut [RodRow], w: usize) {
     // 16 lanes take the rods in batches padded to 16 (fewer rods than lanes)
     for batch in rows.chunks_mut(w) {
         match w {
-            4 => solve_batch(batch, shared),
+            4 => solve_lanes::<wide::f32x4>(batch, shared),
             8 => solve_lanes::<wide::f32x8>(batch, shared),
             16 => solve_lanes::<wide::f32x16>(batch, shared),
             _ => unreachable!(),
@@ -297,7 +300,14 @@ fn other_modes_fall_back_to_scalar() {
     let (mut scalar, mut batch) = (start.clone(), start.clone());
     let mut rows_b = rows.clone();
     scalar_pass(&mut scalar, &mut rows);
-    solve_batch(&mut rows_b, SharedBodies::new(&mut batch));
+    // the four rows as one colour, packed and swept as the SIMD solver does
+    let colours = Colours {
+        starts: vec![0, 4],
+        overflow: None,
+    };
+    let mut packed = Packed::<RodRow>::default();
+    packed.pack(&rows_b, &colours, false);
+    packed.solve(&mut rows_b, SharedBodies::new(&mut batch), false);
     for (s, b) in scalar.iter().zip(&batch) {
         assert_eq!((s.position, s.orientation), (b.position, b.orientation));
     }

@@ -27,25 +27,14 @@
 //! The SIMD solver packs a batch into [`RodLanes`] only when every row uses the default modes
 //! ([`is_default_modes`]); a batch with any other mode ([`TwistMode::Paper`],
 //! [`LengthCorrection::Gradient`]) is solved with the scalar [`RodRow::solve`] row by row
-//! ([`crate::solver::packed`]), as [`solve_batch`] does for 4 or 8 rows, so results stay those
-//! of the scalar reference up to rounding whatever the modes.
+//! ([`crate::solver::packed`]), so results stay those of the scalar reference up to rounding
+//! whatever the modes.
 //!
 //! [`SolverBody::apply_angular_impulse`]: crate::solver_body::SolverBody::apply_angular_impulse
 
 use super::rod::{LengthCorrection, RodRow, TwistMode};
 use crate::lanes::{body_indices, padded, BodyLanes, Lane, MAX_LANES, Q, V3};
 use crate::solver_body::SharedBodies;
-
-/// Solves a batch of rows that share no movable body: W = 4 or 8 lanes when every row uses the
-/// default modes, else the scalar kernel row by row (see the module docs).
-pub fn solve_batch(rows: &mut [RodRow], bodies: SharedBodies) {
-    let lanes = rows.iter().all(is_default_modes);
-    match rows.len() {
-        4 if lanes => solve_lanes::<wide::f32x4>(rows, bodies),
-        8 if lanes => solve_lanes::<wide::f32x8>(rows, bodies),
-        _ => solve_scalar(rows, bodies),
-    }
-}
 
 /// Whether the lane kernel covers this row's modes.
 #[inline(always)]
