@@ -174,6 +174,19 @@ pub struct OverrideArgs {
     /// Rod twisting relaxation alpha_t in [0, 1].
     #[arg(long, value_parser = unit_interval)]
     pub alpha_t: Option<f32>,
+    /// Rod bending stiffness (N m/rad), solved in compliance form instead of alpha_b: the
+    /// same stiffness at any iteration count, time step or substep count.
+    #[arg(long, value_parser = positive_stiffness, conflicts_with = "alpha_b")]
+    pub bend_stiffness: Option<f32>,
+    /// Damping of the rod's bend rate (N m s/rad), with a bending stiffness.
+    #[arg(long, value_parser = non_negative)]
+    pub bend_damping: Option<f32>,
+    /// Rod twisting stiffness (N m/rad), instead of alpha_t.
+    #[arg(long, value_parser = positive_stiffness, conflicts_with = "alpha_t")]
+    pub twist_stiffness: Option<f32>,
+    /// Damping of the rod's twist rate (N m s/rad), with a twisting stiffness.
+    #[arg(long, value_parser = non_negative)]
+    pub twist_damping: Option<f32>,
     /// Rod twist measure: exact or paper.
     #[arg(long, value_parser = parse_choice::<TwistMode>)]
     pub twist: Option<TwistMode>,
@@ -210,6 +223,14 @@ fn positive_seconds(s: &str) -> Result<f32, String> {
     }
 }
 
+fn positive_stiffness(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if v > 0.0 && v.is_finite() => Ok(v),
+        Ok(v) => Err(format!("must be a positive stiffness in N m/rad, got {v}")),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
 fn positive_speed(s: &str) -> Result<f32, String> {
     match s.parse::<f32>() {
         Ok(v) if v > 0.0 => Ok(v),
@@ -236,6 +257,10 @@ impl From<&OverrideArgs> for Overrides {
             joint_flavour: a.joint,
             alpha_b: a.alpha_b,
             alpha_t: a.alpha_t,
+            bend_stiffness: a.bend_stiffness,
+            bend_damping: a.bend_damping,
+            twist_stiffness: a.twist_stiffness,
+            twist_damping: a.twist_damping,
             twist: a.twist,
         }
     }
@@ -648,7 +673,6 @@ fn rerun_sink_given(matches: &ArgMatches) -> bool {
         .any(|id| matches!(matches.value_source(id), Some(ValueSource::CommandLine)))
 }
 
-/// Loads a scene and applies overrides.
 /// Loads a scene, at its `[[variant]]` `variant` if given, with the command line's overrides.
 pub fn load_scene(
     path: &Path,
@@ -660,6 +684,8 @@ pub fn load_scene(
         scene = scene.variant(name)?;
     }
     overrides.apply(&mut scene.def);
+    (overrides.check_applied(&scene.def))
+        .map_err(|m| anyhow::anyhow!("{}: {m}", path.display()))?;
     Ok(scene)
 }
 

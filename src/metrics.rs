@@ -6,7 +6,7 @@
 //! - per rod: psi, tau, length and curve violation; per skeleton and bone-mapping method: bone
 //!   length error and chest-end gap (cm).
 
-use crate::constraint::{Constraint, RodState, Violation};
+use crate::constraint::{RodState, Violation};
 use crate::lab::Lab;
 use crate::ragdoll::Ragdoll;
 use crate::skeleton::{BoneError, BoneMethod};
@@ -65,12 +65,7 @@ impl FrameMetrics {
         self.potential_energy = world.potential_energy();
         self.max_penetration_cm = 100.0 * world.contacts.max_penetration(&world.bodies);
         self.rods.clear();
-        for constraint in &world.constraints {
-            if let Constraint::Rod(rod) = constraint {
-                self.rods
-                    .push(rod.state(world.body(rod.body_a), world.body(rod.body_b)));
-            }
-        }
+        self.rods.extend(world.rod_states());
         self.bones.clear();
         for (i, ragdoll) in lab.ragdolls.iter().enumerate() {
             if let Some(skeleton) = &ragdoll.skeleton {

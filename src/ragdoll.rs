@@ -24,7 +24,7 @@ use serde::Deserialize;
 
 use crate::body::{Body, BodyId, BodyKind};
 use crate::constraint::{
-    AngularLimit, BallSocket, Constraint, JointFlavour, LengthCorrection, Rod, TwistMode,
+    AngularLimit, BallSocket, Constraint, JointFlavour, LengthCorrection, Rod, Stiffness, TwistMode,
 };
 use crate::math::{Iso, Quat, Vec3};
 use crate::shape::{Axis, Shape};
@@ -77,6 +77,9 @@ pub struct HumanoidSpec {
 pub struct RodParams {
     pub alpha_bend: f32,
     pub alpha_twist: f32,
+    /// Stiffness in physical units, replacing the alphas where set.
+    pub bend_stiffness: Option<Stiffness>,
+    pub twist_stiffness: Option<Stiffness>,
     pub twist_mode: TwistMode,
     pub length_correction: LengthCorrection,
 }
@@ -86,6 +89,8 @@ impl Default for RodParams {
         RodParams {
             alpha_bend: 0.1,
             alpha_twist: 0.5,
+            bend_stiffness: None,
+            twist_stiffness: None,
             twist_mode: TwistMode::Exact,
             length_correction: LengthCorrection::Offset,
         }
@@ -537,6 +542,8 @@ pub fn build_humanoid(world: &mut World, spec: &HumanoidSpec) -> Result<Ragdoll,
         )?;
         rod.alpha_bend = spec.rod.alpha_bend;
         rod.alpha_twist = spec.rod.alpha_twist;
+        rod.bend_stiffness = spec.rod.bend_stiffness;
+        rod.twist_stiffness = spec.rod.twist_stiffness;
         rod.twist_mode = spec.rod.twist_mode;
         rod.length_correction = spec.rod.length_correction;
         world.constraints.push(Constraint::Rod(rod));

@@ -81,6 +81,14 @@ impl World {
         &mut self.bodies[id.index()]
     }
 
+    /// Every rod's state at the current poses, in constraint order.
+    pub fn rod_states(&self) -> impl Iterator<Item = crate::constraint::RodState> + '_ {
+        self.constraints.iter().filter_map(|c| match c {
+            Constraint::Rod(rod) => Some(rod.state(self.body(rod.body_a), self.body(rod.body_b))),
+            _ => None,
+        })
+    }
+
     pub fn find_body(&self, name: &str) -> Option<BodyId> {
         self.bodies
             .iter()

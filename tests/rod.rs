@@ -660,6 +660,8 @@ fn posed_rod(pa: Vec3, fa: Quat, pb: Vec3, fb: Quat, l0: f32, alpha: f32) -> (Ve
         rest_length: l0,
         alpha_bend: alpha,
         alpha_twist: alpha,
+        bend_stiffness: None,
+        twist_stiffness: None,
         twist_mode: TwistMode::Exact,
         length_correction: LengthCorrection::Offset,
     };

@@ -541,3 +541,118 @@ fn variants_override_the_settings_and_their_mistakes_name_their_lines() {
         "{e}"
     );
 }
+
+/// A rod's stiffness in physical units: positive, not beside the alpha it replaces, damping
+/// only with a stiffness; the ragdoll's rod spine checks the same fields.
+#[test]
+fn rod_stiffness_mistakes_name_the_field() {
+    let rod_error = |from: &str, to: &str| {
+        let text = format!("{GOOD}{WITH_ROD}").replacen(from, to, 1);
+        let e = Scene::parse("scenes/x.toml", &text)
+            .unwrap_err()
+            .to_string();
+        let line = move |field: &str| text.lines().position(|l| l.starts_with(field)).unwrap() + 1;
+        (e, line)
+    };
+    let (e, line) = rod_error("alpha_b = 0.1", "bend_stiffness = -5.0");
+    assert!(
+        e.starts_with(&format!(
+            "scenes/x.toml:{}: rod[0].bend_stiffness: ",
+            line("bend_stiffness")
+        )),
+        "{e}"
+    );
+    assert!(e.contains("positive"), "{e}");
+    let (e, line) = rod_error("alpha_b = 0.1", "alpha_b = 0.1\nbend_stiffness = 50.0");
+    assert!(
+        e.starts_with(&format!(
+            "scenes/x.toml:{}: rod[0].bend_stiffness: ",
+            line("bend_stiffness")
+        )),
+        "{e}"
+    );
+    assert!(e.contains("replaces alpha_b"), "{e}");
+    let (e, line) = rod_error("alpha_b = 0.1", "twist_damping = 1.0");
+    assert!(
+        e.starts_with(&format!(
+            "scenes/x.toml:{}: rod[0].twist_damping: ",
+            line("twist_damping")
+        )),
+        "{e}"
+    );
+    let e = error_for(
+        r#"spine = "chain3""#,
+        "spine = \"rod\"\nalpha_t = 0.5\ntwist_stiffness = 10.0",
+    );
+    assert!(
+        e.starts_with(&format!(
+            "scenes/x.toml:{}: ragdoll[0].twist_stiffness: ",
+            line_of("spine =") + 2
+        )),
+        "{e}"
+    );
+    // a good stiff rod reaches the solver's rod
+    let text = format!("{GOOD}{WITH_ROD}")
+        .replace("alpha_b = 0.1", "bend_stiffness = 50.0\nbend_damping = 2.0");
+    let world = Scene::parse("scenes/x.toml", &text)
+        .unwrap()
+        .build()
+        .unwrap()
+        .world;
+    let rod = world
+        .constraints
+        .iter()
+        .find_map(|c| match c {
+            rodlab::constraint::Constraint::Rod(r) => Some(r),
+            _ => None,
+        })
+        .unwrap();
+    assert_eq!(
+        rod.bend_stiffness,
+        Some(rodlab::constraint::Stiffness {
+            stiffness: 50.0,
+            damping: 2.0
+        })
+    );
+    assert_eq!((rod.alpha_bend, rod.twist_stiffness), (0.0, None));
+}
+
+/// The command line's rod overrides: a stiffness replaces the file's alpha (and an alpha the
+/// file's stiffness); a rod flag on a scene without rods, or damping with no stiffness to damp,
+/// is an error naming the flag, never dropped.
+#[test]
+fn rod_overrides_replace_each_other_and_refuse_what_they_cannot_do() {
+    use rodlab::sim::Overrides;
+    let mut scene = Scene::parse("scenes/x.toml", GOOD).unwrap();
+    let damping_only = Overrides {
+        bend_damping: Some(1.0),
+        ..Default::default()
+    };
+    damping_only.apply(&mut scene.def);
+    let e = damping_only.check_applied(&scene.def).unwrap_err();
+    assert!(e.starts_with("--bend-damping: the scene has no rod"), "{e}");
+    let stiff = Overrides {
+        spine: Some(rodlab::ragdoll::SpineKind::Rod),
+        bend_stiffness: Some(80.0),
+        ..Default::default()
+    };
+    let mut scene = Scene::parse("scenes/x.toml", GOOD).unwrap();
+    scene.def.ragdoll[0].alpha_b = Some(0.2);
+    stiff.apply(&mut scene.def);
+    stiff.check_applied(&scene.def).unwrap();
+    let r = &scene.def.ragdoll[0];
+    assert_eq!((r.alpha_b, r.bend_stiffness), (None, Some(80.0)));
+    let e = damping_only.check_applied(&{
+        let mut def = scene.def.clone();
+        def.ragdoll[0].bend_stiffness = None;
+        def
+    });
+    assert!(e.unwrap_err().starts_with("--bend-damping damps"));
+    let alpha = Overrides {
+        alpha_b: Some(0.3),
+        ..Default::default()
+    };
+    alpha.apply(&mut scene.def);
+    let r = &scene.def.ragdoll[0];
+    assert_eq!((r.alpha_b, r.bend_stiffness), (Some(0.3), None));
+}

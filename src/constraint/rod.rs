@@ -26,6 +26,19 @@
 //!   angle between `F(0)` and `F(1)`: it has no sign (we take the sign from the exact twist) and
 //!   underestimates a twist on a bent rod.
 //!
+//! Stiffness in physical units (an alternative to the alphas, not in the paper): the fraction
+//! alpha removed per iteration makes the same alpha stiffer at more iterations, substeps or a
+//! shorter step. With `bend_stiffness` k (N m/rad) the bend is instead the compliant constraint
+//! `C = psi` of energy `k psi^2 / 2`, solved in compliance form (XPBD, Macklin, Mueller and
+//! Chentanez 2016, eq. 18): per substep of `h`, with `alpha~ = 1 / (k h^2)` and the multiplier
+//! `lambda` reset to 0, each iteration applies
+//! `d lambda = (-psi - alpha~ lambda) / (w + alpha~)`
+//! as the angular impulse `d lambda (t_a x t_b)^` on b and its negative on a, `w` the pair's
+//! inverse inertia about that axis. The twist likewise with `C = tau` about `t_b`
+//! (`twist_stiffness`). Once the iterations converge, the rod holds the torque `k psi` whatever
+//! their number (`tests/rod.rs` measures it). Damping `c` (N m s/rad) acts on the velocities
+//! after the substep ([`RodRow::damp_velocities`]).
+//!
 //! The arc (eq. 7-8, in a form stable at small `psi`): with `k` the unit normal of `t_a` toward
 //! `t_b`, `gamma(s) = p_a + l_0 (sin(psi s)/psi t_a + (1 - cos(psi s))/psi k)`, whose chord is
 //! eq. 9. Its natural frame at `s` is `F(0)` turned by `psi s` about `t_a x t_b`; the material
@@ -34,7 +47,8 @@
 use super::parts::relative_rotation;
 use super::Violation;
 use crate::body::{Body, BodyId};
-use crate::math::{angle_between, any_perpendicular, twist_angle, Quat, Vec3};
+use crate::math::{angle_between, any_perpendicular, twist_angle, Mat3, Quat, Vec3};
+use crate::solver_body::pair_mut;
 use crate::solver_body::SolverBody;
 
 /// How the length constraint (eq. 9) is corrected.
@@ -61,6 +75,15 @@ pub enum TwistMode {
     Paper,
 }
 
+/// A rod part's stiffness in physical units, solved in compliance form (see the module docs).
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct Stiffness {
+    /// Restoring torque per radian (N m/rad), > 0.
+    pub stiffness: f32,
+    /// Damping torque per rad/s of bend or twist rate (N m s/rad), >= 0.
+    pub damping: f32,
+}
+
 #[derive(Clone, Debug)]
 pub struct Rod {
     pub name: String,
@@ -75,6 +98,10 @@ pub struct Rod {
     pub alpha_bend: f32,
     /// Twisting relaxation alpha_t in [0, 1].
     pub alpha_twist: f32,
+    /// Bending stiffness; when set it replaces `alpha_bend`.
+    pub bend_stiffness: Option<Stiffness>,
+    /// Twisting stiffness; when set it replaces `alpha_twist`.
+    pub twist_stiffness: Option<Stiffness>,
     pub twist_mode: TwistMode,
     pub length_correction: LengthCorrection,
 }
@@ -127,6 +154,8 @@ impl Rod {
             rest_length,
             alpha_bend: 0.0,
             alpha_twist: 0.0,
+            bend_stiffness: None,
+            twist_stiffness: None,
             twist_mode: TwistMode::Exact,
             length_correction: LengthCorrection::Offset,
         })
@@ -154,6 +183,8 @@ impl Rod {
             rest_length: self.rest_length,
             alpha_bend: self.alpha_bend,
             alpha_twist: self.alpha_twist,
+            bend_compliant: self.bend_stiffness.map(Compliant::new),
+            twist_compliant: self.twist_stiffness.map(Compliant::new),
             twist_mode: self.twist_mode,
             length_correction: self.length_correction,
         }
@@ -210,17 +241,111 @@ pub struct RodRow {
     pub rest_length: f32,
     pub alpha_bend: f32,
     pub alpha_twist: f32,
+    /// Stiffness in compliance form, with its state in the substep (replaces the alpha).
+    pub bend_compliant: Option<Compliant>,
+    pub twist_compliant: Option<Compliant>,
     pub twist_mode: TwistMode,
     pub length_correction: LengthCorrection,
 }
 
+/// A compliant part (bend or twist) as the solver keeps it through one substep (XPBD).
+#[derive(Clone, Copy, Debug)]
+pub struct Compliant {
+    pub stiffness: Stiffness,
+    /// `alpha~ = 1 / (k h^2)`.
+    compliance: f32,
+    /// The multiplier accumulated this substep.
+    lambda: f32,
+}
+
+impl Compliant {
+    fn new(stiffness: Stiffness) -> Self {
+        Compliant {
+            stiffness,
+            compliance: 0.0,
+            lambda: 0.0,
+        }
+    }
+
+    fn begin_substep(&mut self, h: f32) {
+        self.compliance = 1.0 / (self.stiffness.stiffness * h * h);
+        self.lambda = 0.0;
+    }
+
+    /// One XPBD update for the angle `c` with the pair's inverse inertia `w` about its axis:
+    /// the angular impulse on b (a takes its negative).
+    fn impulse(&mut self, c: f32, w: f32) -> f32 {
+        let delta = (-c - self.compliance * self.lambda) / (w + self.compliance);
+        self.lambda += delta;
+        delta
+    }
+}
+
 impl RodRow {
-    /// One projection of bend, twist, curve and length, sharing the geometry (§7).
-    pub fn solve(&self, a: &mut SolverBody, b: &mut SolverBody) {
-        // Soft bend (eq. 11): remove alpha_b of psi about t_a x t_b.
+    /// Per-substep constants of the compliant parts.
+    pub fn begin_substep(&mut self, h: f32) {
+        for part in [&mut self.bend_compliant, &mut self.twist_compliant]
+            .into_iter()
+            .flatten()
+        {
+            part.begin_substep(h);
+        }
+    }
+
+    /// The compliant parts' damping, on the velocities after the substep's positions are
+    /// solved (as Mueller et al. 2020 damp XPBD joints, so damping adds no bias where the
+    /// iterations have not converged): the relative angular velocity `w_rel` about the bend
+    /// axis (and about `t_b`) becomes `w_rel / (1 + c h w)`, the implicit step of the torque
+    /// `-c w_rel`, shared by the bodies' inertia about the axis.
+    pub fn damp_velocities(&self, bodies: &mut [Body], h: f32) {
+        let damping = |part: Option<Compliant>| part.map_or(0.0, |p| p.stiffness.damping);
+        let (bend, twist) = (damping(self.bend_compliant), damping(self.twist_compliant));
+        if bend == 0.0 && twist == 0.0 {
+            return;
+        }
+        let (a, b) = pair_mut(bodies, self.body_a as usize, self.body_b as usize);
+        let mobility = |body: &Body| {
+            if body.is_awake_dynamic() {
+                body.inverse_inertia_world()
+            } else {
+                Mat3::ZERO
+            }
+        };
+        let (inverse_a, inverse_b) = (mobility(a), mobility(b));
         let (fa, fb) = (a.orientation * self.frame_a, b.orientation * self.frame_b);
         let (ta, tb) = (fa * Vec3::X, fb * Vec3::X);
-        if self.alpha_bend > 0.0 {
+        let bend_axis = ta.cross(tb).try_normalize();
+        for (c, axis) in [(bend, bend_axis), (twist, Some(tb))] {
+            let Some(n) = axis.filter(|_| c > 0.0) else {
+                continue;
+            };
+            let w = n.dot(inverse_a * n) + n.dot(inverse_b * n);
+            let relative = (b.angular_velocity - a.angular_velocity).dot(n);
+            let impulse = -c * h * relative / (1.0 + c * h * w) * n;
+            a.angular_velocity -= inverse_a * impulse;
+            b.angular_velocity += inverse_b * impulse;
+        }
+    }
+
+    /// One projection of bend, twist, curve and length, sharing the geometry (§7).
+    pub fn solve(&mut self, a: &mut SolverBody, b: &mut SolverBody) {
+        let (fa, fb) = (a.orientation * self.frame_a, b.orientation * self.frame_b);
+        let (ta, tb) = (fa * Vec3::X, fb * Vec3::X);
+        if let Some(part) = &mut self.bend_compliant {
+            // Compliant bend: the torque k psi about t_a x t_b.
+            let psi = angle_between(ta, tb);
+            if psi > 1e-7 {
+                let axis = ta
+                    .cross(tb)
+                    .try_normalize()
+                    .unwrap_or_else(|| any_perpendicular(ta));
+                let w = a.angular_inverse_mass(axis) + b.angular_inverse_mass(axis);
+                let impulse = part.impulse(psi, w) * axis;
+                a.apply_angular_impulse(-impulse);
+                b.apply_angular_impulse(impulse);
+            }
+        } else if self.alpha_bend > 0.0 {
+            // Soft bend (eq. 11): remove alpha_b of psi about t_a x t_b.
             let psi = angle_between(ta, tb);
             if psi > 1e-7 {
                 let axis = ta
@@ -230,8 +355,17 @@ impl RodRow {
                 relative_rotation(a, b, -self.alpha_bend * psi * axis);
             }
         }
-        // Soft twist (eq. 12-13): remove alpha_t of tau about t_b.
-        if self.alpha_twist > 0.0 {
+        if let Some(part) = &mut self.twist_compliant {
+            // Compliant twist: the torque k tau about t_b.
+            let (fa, fb) = (a.orientation * self.frame_a, b.orientation * self.frame_b);
+            let tau = measure_twist(self.twist_mode, fa, fb);
+            let axis = fb * Vec3::X;
+            let w = a.angular_inverse_mass(axis) + b.angular_inverse_mass(axis);
+            let impulse = part.impulse(tau, w) * axis;
+            a.apply_angular_impulse(-impulse);
+            b.apply_angular_impulse(impulse);
+        } else if self.alpha_twist > 0.0 {
+            // Soft twist (eq. 12-13): remove alpha_t of tau about t_b.
             let (fa, fb) = (a.orientation * self.frame_a, b.orientation * self.frame_b);
             let tau = measure_twist(self.twist_mode, fa, fb);
             relative_rotation(a, b, -self.alpha_twist * tau * (fb * Vec3::X));

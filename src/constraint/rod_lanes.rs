@@ -26,7 +26,7 @@
 //!
 //! The SIMD solver packs a batch into [`RodLanes`] only when every row uses the default modes
 //! ([`is_default_modes`]); a batch with any other mode ([`TwistMode::Paper`],
-//! [`LengthCorrection::Gradient`]) is solved with the scalar [`RodRow::solve`] row by row
+//! [`LengthCorrection::Gradient`], a stiffness in physical units) is solved with the scalar [`RodRow::solve`] row by row
 //! ([`crate::solver::packed`]), so results stay those of the scalar reference up to rounding
 //! whatever the modes.
 //!
@@ -36,10 +36,14 @@ use super::rod::{LengthCorrection, RodRow, TwistMode};
 use crate::lanes::{body_indices, padded, BodyLanes, Lane, MAX_LANES, Q, V3};
 use crate::solver_body::SharedBodies;
 
-/// Whether the lane kernel covers this row's modes.
+/// Whether the lane kernel covers this row: the default modes and the paper's alphas (a rod
+/// with a stiffness in physical units is solved by the scalar kernel).
 #[inline(always)]
 pub fn is_default_modes(row: &RodRow) -> bool {
-    row.twist_mode == TwistMode::Exact && row.length_correction == LengthCorrection::Offset
+    row.twist_mode == TwistMode::Exact
+        && row.length_correction == LengthCorrection::Offset
+        && row.bend_compliant.is_none()
+        && row.twist_compliant.is_none()
 }
 
 /// The scalar [`RodRow::solve`] one row after another.

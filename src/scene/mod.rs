@@ -16,7 +16,7 @@ use serde::Deserialize;
 
 use crate::body::{Body, BodyKind};
 use crate::constraint::{
-    AngularLimit, BallSocket, Constraint, JointFlavour, LengthCorrection, Rod, TwistMode,
+    AngularLimit, BallSocket, Constraint, JointFlavour, LengthCorrection, Rod, Stiffness, TwistMode,
 };
 use crate::lab::Lab;
 use crate::math::{quat_from_degrees, Iso, Quat, Vec3};
@@ -185,6 +185,10 @@ impl DropDef {
                     limb_spring: None,
                     alpha_b: None,
                     alpha_t: None,
+                    bend_stiffness: None,
+                    bend_damping: None,
+                    twist_stiffness: None,
+                    twist_damping: None,
                     twist: None,
                     rod_length: None,
                     forces: Default::default(),
@@ -249,6 +253,14 @@ pub struct RodDef {
     pub alpha_b: f32,
     #[serde(default)]
     pub alpha_t: f32,
+    /// Bending stiffness (N m/rad), > 0, solved in compliance form; replaces `alpha_b`.
+    pub bend_stiffness: Option<f32>,
+    /// Damping of the bend rate (N m s/rad), >= 0; only with `bend_stiffness`.
+    pub bend_damping: Option<f32>,
+    /// Twisting stiffness (N m/rad), > 0; replaces `alpha_t`.
+    pub twist_stiffness: Option<f32>,
+    /// Damping of the twist rate (N m s/rad), >= 0; only with `twist_stiffness`.
+    pub twist_damping: Option<f32>,
     #[serde(default)]
     pub twist: TwistMode,
     #[serde(default)]
@@ -256,6 +268,110 @@ pub struct RodDef {
     /// Direction the body normals point to (projected off the tangent).
     #[serde(default = "default_rod_normal")]
     pub normal: [f32; 3],
+}
+
+/// A rod's bend and twist stiffness in physical units, solved in compliance form (XPBD), as an
+/// alternative to the paper's `alpha_b` and `alpha_t`: the same stiffness at any iteration
+/// count, time step or substep count ([`crate::constraint::rod`]). The fields of a `[[rod]]`
+/// or a rod-spine `[[ragdoll]]`, gathered.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StiffnessDef {
+    pub bend_stiffness: Option<f32>,
+    pub bend_damping: Option<f32>,
+    pub twist_stiffness: Option<f32>,
+    pub twist_damping: Option<f32>,
+}
+
+macro_rules! stiffness_of {
+    ($def:expr) => {
+        StiffnessDef {
+            bend_stiffness: $def.bend_stiffness,
+            bend_damping: $def.bend_damping,
+            twist_stiffness: $def.twist_stiffness,
+            twist_damping: $def.twist_damping,
+        }
+    };
+}
+
+impl RodDef {
+    pub fn stiffness(&self) -> StiffnessDef {
+        stiffness_of!(self)
+    }
+}
+
+impl RagdollDef {
+    pub fn stiffness(&self) -> StiffnessDef {
+        stiffness_of!(self)
+    }
+}
+
+impl StiffnessDef {
+    pub fn bend(&self) -> Option<Stiffness> {
+        Some(Stiffness {
+            stiffness: self.bend_stiffness?,
+            damping: self.bend_damping.unwrap_or(0.0),
+        })
+    }
+
+    pub fn twist(&self) -> Option<Stiffness> {
+        Some(Stiffness {
+            stiffness: self.twist_stiffness?,
+            damping: self.twist_damping.unwrap_or(0.0),
+        })
+    }
+
+    /// Positive stiffness, damping only beside one, and neither beside the alpha it replaces
+    /// (`alpha_b`, `alpha_t`: whether the file sets them).
+    fn check(&self, alpha_b: bool, alpha_t: bool) -> Result<(), (&'static str, String)> {
+        let parts = [
+            (
+                "bend_stiffness",
+                "bend_damping",
+                "alpha_b",
+                alpha_b,
+                self.bend_stiffness,
+                self.bend_damping,
+            ),
+            (
+                "twist_stiffness",
+                "twist_damping",
+                "alpha_t",
+                alpha_t,
+                self.twist_stiffness,
+                self.twist_damping,
+            ),
+        ];
+        for (stiffness_field, damping_field, alpha_field, alpha, stiffness, damping) in parts {
+            match stiffness {
+                Some(k) if !(k > 0.0 && k.is_finite()) => {
+                    return Err((
+                        stiffness_field,
+                        format!("must be a positive stiffness in N m/rad, got {k}"),
+                    ))
+                }
+                Some(_) if alpha => {
+                    return Err((
+                        stiffness_field,
+                        format!("replaces {alpha_field}: set one of them, not both"),
+                    ))
+                }
+                None if damping.is_some() => {
+                    return Err((
+                        damping_field,
+                        format!("damps the {stiffness_field}, which is not set"),
+                    ))
+                }
+                _ => {}
+            }
+            if let Some(c) = damping.filter(|c| !(*c >= 0.0 && c.is_finite())) {
+                return Err((
+                    damping_field,
+                    format!("must be 0 or more N m s/rad, got {c}"),
+                ));
+            }
+        }
+        Ok(())
+    }
 }
 
 fn default_rod_normal() -> [f32; 3] {
@@ -394,6 +510,14 @@ pub struct RagdollDef {
     pub alpha_b: Option<f32>,
     /// Rod spine: twisting relaxation alpha_t in [0, 1] (eq. 13).
     pub alpha_t: Option<f32>,
+    /// Rod spine: bending stiffness (N m/rad), > 0, solved in compliance form; replaces `alpha_b`.
+    pub bend_stiffness: Option<f32>,
+    /// Damping of the bend rate (N m s/rad), >= 0; only with `bend_stiffness`.
+    pub bend_damping: Option<f32>,
+    /// Rod spine: twisting stiffness (N m/rad), > 0; replaces `alpha_t`.
+    pub twist_stiffness: Option<f32>,
+    /// Damping of the twist rate (N m s/rad), >= 0; only with `twist_stiffness`.
+    pub twist_damping: Option<f32>,
     /// Rod spine: twist measure, exact (parallel transport) or paper (eq. 12).
     pub twist: Option<TwistMode>,
     /// Rod spine: length correction, offset (the paper's) or gradient (workless).
@@ -706,6 +830,12 @@ impl Scene {
             ] {
                 check_relaxation(value).map_err(|m| (at("ragdoll", i, field), m))?;
             }
+            for (field, value) in [("alpha_b", r.alpha_b), ("alpha_t", r.alpha_t)] {
+                check_relaxation(value).map_err(|m| (at("ragdoll", i, field), m))?;
+            }
+            r.stiffness()
+                .check(r.alpha_b.is_some(), r.alpha_t.is_some())
+                .map_err(|(f, m)| (at("ragdoll", i, f), m))?;
             let joints = joint_names(r.spine);
             for joint in r.pose.keys() {
                 if !joints.contains(&joint.as_str()) {
@@ -765,6 +895,9 @@ impl Scene {
             }
             check_relaxation(Some(r.alpha_b)).map_err(|m| (at("rod", i, "alpha_b"), m))?;
             check_relaxation(Some(r.alpha_t)).map_err(|m| (at("rod", i, "alpha_t"), m))?;
+            r.stiffness()
+                .check(r.alpha_b != 0.0, r.alpha_t != 0.0)
+                .map_err(|(f, m)| (at("rod", i, f), m))?;
         }
         let mut joint_names_seen: Vec<&str> = Vec::new();
         for (i, j) in d.joint.iter().enumerate() {
@@ -843,6 +976,8 @@ impl Scene {
                     RodParams {
                         alpha_bend: r.alpha_b.unwrap_or(default.alpha_bend),
                         alpha_twist: r.alpha_t.unwrap_or(default.alpha_twist),
+                        bend_stiffness: r.stiffness().bend(),
+                        twist_stiffness: r.stiffness().twist(),
                         twist_mode: r.twist.unwrap_or(default.twist_mode),
                         length_correction: r.rod_length.unwrap_or(default.length_correction),
                     }
@@ -897,6 +1032,8 @@ impl Scene {
             rod.rest_length = r.rest_length.unwrap_or(rod.rest_length);
             rod.alpha_bend = r.alpha_b;
             rod.alpha_twist = r.alpha_t;
+            rod.bend_stiffness = r.stiffness().bend();
+            rod.twist_stiffness = r.stiffness().twist();
             rod.twist_mode = r.twist;
             rod.length_correction = r.length_correction;
             world.constraints.push(Constraint::Rod(rod));

@@ -25,8 +25,9 @@
 //!       damping, if any;
 //!    2. predict the preview poses `p* = p + h v`, `q* = exp(h w) q` (exact exponential map)
 //!       into the hot [`SolverBody`] array, with each body's world inverse inertia there;
-//!       take the rows' per-substep constants (the limits' starting twist; with joint damping,
-//!       each damper's starting relative orientation and relaxation);
+//!       take the rows' per-substep constants (the limits' starting twist; a stiff rod's
+//!       compliance; with joint damping, each damper's starting
+//!       relative orientation and relaxation);
 //!    3. `iterations` times: solve the joint dampers if any ([`crate::constraint::damper`]),
 //!       then the rods, then the joints, then the contact points, each
 //!       kind colour by colour (the humanoid builder appends a ragdoll's rod before its
@@ -37,7 +38,9 @@
 //!       a colour is large enough ([`PARALLEL_MIN_ROWS`]);
 //!    4. derive the velocities `v = (p* - p) / h`, `w = log(q* q^-1) / h` and commit the poses
 //!       back to the [`Body`]s;
-//!    5. the contacts' velocity pass: each contact that pushed in this substep leaves with zero
+//!    5. a stiff rod's damping (`bend_damping`, `twist_damping`) on the velocities
+//!       ([`RodRow::damp_velocities`]);
+//!    6. the contacts' velocity pass: each contact that pushed in this substep leaves with zero
 //!       relative normal velocity, or bounces (restitution);
 //! 4. the caller checks every body for NaN and for speeds above the explosion bounds, then
 //!    measures residuals on the final poses (paper Fig. 8), once per frame;
@@ -328,6 +331,7 @@ impl Solver {
                 .iter_mut()
                 .for_each(|r| r.begin_substep(bodies_now));
         }
+        self.rods.iter_mut().for_each(|r| r.begin_substep(h));
         let damping = JointDamping {
             coefficient: settings.joint_damping,
             h,
@@ -412,8 +416,10 @@ impl Solver {
         } else {
             bodies.iter_mut().zip(&self.bodies).for_each(commit);
         }
+        // 3.5 the stiff rods' damping, on the velocities
+        self.rods.iter().for_each(|r| r.damp_velocities(bodies, h));
         self.profile.commit += lap(&mut clock);
-        // 3.5 the contacts' velocity pass; bounces slower than two frames of free fall stay
+        // 3.6 the contacts' velocity pass; bounces slower than two frames of free fall stay
         // inelastic
         if settings.contacts {
             let colours = &self.contact_colours;
