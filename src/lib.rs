@@ -30,6 +30,8 @@
 //! - [`metrics`]: residual dislocation (cm) and angular violation (rad), energy;
 //! - [`sim`]: the run loop and its observer hook;
 //! - [`sweep`]: speed against accuracy over methods and iterations; [`chart`]: its SVG chart;
+//! - [`tune`]: the rod's bend and twist settings side by side, and matching a bend;
+//! - [`shard`]: a sweep's or a tuning grid's combinations split between processes;
 //! - [`stress`]: the stability suite, a verdict per method;
 //! - [`record`]: Rerun recording; [`cli`]: the command line.
 
@@ -50,6 +52,7 @@ pub mod ragdoll;
 pub mod record;
 pub mod scene;
 pub mod shape;
+pub mod shard;
 pub mod sim;
 pub mod skeleton;
 pub mod sleep;
@@ -57,4 +60,5 @@ pub mod solver;
 pub mod solver_body;
 pub mod stress;
 pub mod sweep;
+pub mod tune;
 pub mod world;

@@ -39,6 +39,8 @@ use crate::sim::Observer;
 use crate::skeleton::BoneMethod;
 use crate::world::{SimulationError, World};
 
+pub mod tune;
+
 /// Application id of every rodlab recording.
 pub const APPLICATION_ID: &str = "rodlab";
 
@@ -165,6 +167,167 @@ fn asleep_color(c: rerun::Color) -> rerun::Color {
     rerun::Color::from_rgb(fade(r), fade(g), fade(b))
 }
 
+/// The lab's bodies in batches, one per group and shape kind: `<group(body)>/capsules`,
+/// `.../spheres`, `.../boxes` (half-spaces are drawn apart).
+fn body_batches(lab: &Lab, group: impl Fn(BodyId) -> String) -> Vec<BodyBatch> {
+    let world = &lab.world;
+    let mut batches: Vec<BodyBatch> = Vec::new();
+    for (i, body) in world.bodies.iter().enumerate() {
+        let id = BodyId(i as u32);
+        let kind = match body.shape {
+            Shape::Capsule { .. } => "capsules",
+            Shape::Sphere { .. } => "spheres",
+            Shape::Cuboid { .. } => "boxes",
+            Shape::HalfSpace => continue, // static, drawn once in `log_static`
+        };
+        let entity = format!("{}/{kind}", group(id));
+        let offset = match body.shape {
+            Shape::Capsule {
+                half_height, axis, ..
+            } => (
+                -half_height * axis.unit(),
+                Quat::from_rotation_arc(Vec3::Z, axis.unit()),
+            ),
+            _ => (Vec3::ZERO, Quat::IDENTITY),
+        };
+        match batches.iter_mut().find(|b| b.entity == entity) {
+            Some(batch) => {
+                batch.bodies.push(id);
+                batch.local_offsets.push(offset);
+            }
+            None => batches.push(BodyBatch {
+                entity,
+                bodies: vec![id],
+                local_offsets: vec![offset],
+                translations: Vec::new(),
+                rotations: Vec::new(),
+                colors: Vec::new(),
+                logged_asleep: Vec::new(),
+            }),
+        }
+    }
+    batches
+}
+
+/// A batch's shapes, labelled with the bodies' short names, and its colours (none: per
+/// frame), as static data.
+fn log_shapes(
+    rec: &RecordingStream,
+    world: &World,
+    batch: &BodyBatch,
+    colors: Vec<rerun::Color>,
+) -> anyhow::Result<()> {
+    let labels: Vec<String> = (batch.bodies.iter())
+        .map(|&id| {
+            let name = &world.body(id).name;
+            name.rsplit('/').next().unwrap_or_default().to_string()
+        })
+        .collect();
+    match world.body(batch.bodies[0]).shape {
+        Shape::Capsule { .. } => {
+            let (lengths, radii): (Vec<f32>, Vec<f32>) = batch
+                .bodies
+                .iter()
+                .map(|&id| match world.body(id).shape {
+                    Shape::Capsule {
+                        half_height,
+                        radius,
+                        ..
+                    } => (2.0 * half_height, radius),
+                    _ => unreachable!("batches hold one shape kind"),
+                })
+                .unzip();
+            let shapes = rerun::Capsules3D::from_lengths_and_radii(lengths, radii)
+                .with_fill_mode(rerun::components::FillMode::Solid)
+                .with_labels(labels)
+                .with_show_labels(false);
+            rec.log_static(batch.entity.as_str(), &with_colors_if_any(shapes, colors))?;
+        }
+        Shape::HalfSpace => unreachable!("half-spaces are not batched"),
+        Shape::Sphere { .. } => {
+            let radii: Vec<f32> = batch
+                .bodies
+                .iter()
+                .map(|&id| world.body(id).shape.bounding_radius())
+                .collect();
+            let shapes = rerun::Ellipsoids3D::from_radii(radii)
+                .with_fill_mode(rerun::components::FillMode::Solid)
+                .with_labels(labels)
+                .with_show_labels(false);
+            rec.log_static(batch.entity.as_str(), &with_colors_if_any(shapes, colors))?;
+        }
+        Shape::Cuboid { .. } => {
+            let half_sizes: Vec<[f32; 3]> = batch
+                .bodies
+                .iter()
+                .map(|&id| match world.body(id).shape {
+                    Shape::Cuboid { half_extents } => half_extents.to_array(),
+                    _ => unreachable!("batches hold one shape kind"),
+                })
+                .collect();
+            let shapes = rerun::Boxes3D::from_half_sizes(half_sizes)
+                .with_fill_mode(rerun::components::FillMode::Solid)
+                .with_labels(labels)
+                .with_show_labels(false);
+            rec.log_static(batch.entity.as_str(), &with_colors_if_any(shapes, colors))?;
+        }
+    }
+    Ok(())
+}
+
+/// A batch's poses this frame (and its colours, if any changed).
+fn log_poses(
+    rec: &RecordingStream,
+    world: &World,
+    batch: &mut BodyBatch,
+    colors: Vec<rerun::Color>,
+) -> anyhow::Result<()> {
+    batch.translations.clear();
+    batch.rotations.clear();
+    for (&id, &(offset, axis_rotation)) in batch.bodies.iter().zip(&batch.local_offsets) {
+        let body = world.body(id);
+        batch
+            .translations
+            .push((body.position + body.orientation * offset).to_array());
+        let q = body.orientation * axis_rotation;
+        batch
+            .rotations
+            .push(rerun::Quaternion::from_xyzw(q.to_array()));
+    }
+    let entity = batch.entity.as_str();
+    match world.body(batch.bodies[0]).shape {
+        Shape::Capsule { .. } => rec.log(
+            entity,
+            &with_colors_if_any(
+                rerun::Capsules3D::update_fields()
+                    .with_translations(batch.translations.iter().copied())
+                    .with_quaternions(batch.rotations.iter().copied()),
+                colors,
+            ),
+        )?,
+        Shape::HalfSpace => unreachable!("half-spaces are not batched"),
+        Shape::Sphere { .. } => rec.log(
+            entity,
+            &with_colors_if_any(
+                rerun::Ellipsoids3D::update_fields()
+                    .with_centers(batch.translations.iter().copied())
+                    .with_quaternions(batch.rotations.iter().copied()),
+                colors,
+            ),
+        )?,
+        Shape::Cuboid { .. } => rec.log(
+            entity,
+            &with_colors_if_any(
+                rerun::Boxes3D::update_fields()
+                    .with_centers(batch.translations.iter().copied())
+                    .with_quaternions(batch.rotations.iter().copied()),
+                colors,
+            ),
+        )?,
+    }
+    Ok(())
+}
+
 /// Streams a lab (its world and ragdolls) into a Rerun recording; plugs into [`crate::sim::run`] as its observer.
 pub struct Recorder {
     rec: RecordingStream,
@@ -206,41 +369,7 @@ impl Recorder {
     pub fn new(rec: RecordingStream, lab: &Lab, scene: &Scene) -> anyhow::Result<Self> {
         let world = &lab.world;
         rec.set_log_time_enabled(false);
-        let mut batches: Vec<BodyBatch> = Vec::new();
-        for (i, body) in world.bodies.iter().enumerate() {
-            let id = BodyId(i as u32);
-            let kind = match body.shape {
-                Shape::Capsule { .. } => "capsules",
-                Shape::Sphere { .. } => "spheres",
-                Shape::Cuboid { .. } => "boxes",
-                Shape::HalfSpace => continue, // static, drawn once in `log_static`
-            };
-            let entity = format!("world/{}/{kind}", group_of(lab, id));
-            let offset = match body.shape {
-                Shape::Capsule {
-                    half_height, axis, ..
-                } => (
-                    -half_height * axis.unit(),
-                    Quat::from_rotation_arc(Vec3::Z, axis.unit()),
-                ),
-                _ => (Vec3::ZERO, Quat::IDENTITY),
-            };
-            match batches.iter_mut().find(|b| b.entity == entity) {
-                Some(batch) => {
-                    batch.bodies.push(id);
-                    batch.local_offsets.push(offset);
-                }
-                None => batches.push(BodyBatch {
-                    entity,
-                    bodies: vec![id],
-                    local_offsets: vec![offset],
-                    translations: Vec::new(),
-                    rotations: Vec::new(),
-                    colors: Vec::new(),
-                    logged_asleep: Vec::new(),
-                }),
-            }
-        }
+        let batches = body_batches(lab, |id| format!("world/{}", group_of(lab, id)));
         let mut joint_groups: Vec<(String, Vec<usize>)> = Vec::new();
         for (i, c) in world.constraints.iter().enumerate() {
             if matches!(c, Constraint::BallSocket(_)) {
@@ -349,68 +478,7 @@ impl Recorder {
                 // per frame instead: static data would shadow the sleep colours
                 batch.colors = std::mem::take(&mut colors);
             }
-            let labels: Vec<String> = batch
-                .bodies
-                .iter()
-                .map(|&id| {
-                    world
-                        .body(id)
-                        .name
-                        .rsplit('/')
-                        .next()
-                        .unwrap_or_default()
-                        .to_string()
-                })
-                .collect();
-            match world.body(batch.bodies[0]).shape {
-                Shape::Capsule { .. } => {
-                    let (lengths, radii): (Vec<f32>, Vec<f32>) = batch
-                        .bodies
-                        .iter()
-                        .map(|&id| match world.body(id).shape {
-                            Shape::Capsule {
-                                half_height,
-                                radius,
-                                ..
-                            } => (2.0 * half_height, radius),
-                            _ => unreachable!("batches hold one shape kind"),
-                        })
-                        .unzip();
-                    let shapes = rerun::Capsules3D::from_lengths_and_radii(lengths, radii)
-                        .with_fill_mode(rerun::components::FillMode::Solid)
-                        .with_labels(labels)
-                        .with_show_labels(false);
-                    rec.log_static(batch.entity.as_str(), &with_colors_if_any(shapes, colors))?;
-                }
-                Shape::HalfSpace => unreachable!("half-spaces are not batched"),
-                Shape::Sphere { .. } => {
-                    let radii: Vec<f32> = batch
-                        .bodies
-                        .iter()
-                        .map(|&id| world.body(id).shape.bounding_radius())
-                        .collect();
-                    let shapes = rerun::Ellipsoids3D::from_radii(radii)
-                        .with_fill_mode(rerun::components::FillMode::Solid)
-                        .with_labels(labels)
-                        .with_show_labels(false);
-                    rec.log_static(batch.entity.as_str(), &with_colors_if_any(shapes, colors))?;
-                }
-                Shape::Cuboid { .. } => {
-                    let half_sizes: Vec<[f32; 3]> = batch
-                        .bodies
-                        .iter()
-                        .map(|&id| match world.body(id).shape {
-                            Shape::Cuboid { half_extents } => half_extents.to_array(),
-                            _ => unreachable!("batches hold one shape kind"),
-                        })
-                        .collect();
-                    let shapes = rerun::Boxes3D::from_half_sizes(half_sizes)
-                        .with_fill_mode(rerun::components::FillMode::Solid)
-                        .with_labels(labels)
-                        .with_show_labels(false);
-                    rec.log_static(batch.entity.as_str(), &with_colors_if_any(shapes, colors))?;
-                }
-            }
+            log_shapes(rec, world, batch, colors)?;
         }
         for (r, paths) in lab.ragdolls.iter().zip(&self.metric_paths) {
             let style = rerun::SeriesLines::new()
@@ -430,51 +498,8 @@ impl Recorder {
         rec.set_duration_secs("sim_time", world.time);
         if self.options.bodies {
             for batch in &mut self.batches {
-                batch.translations.clear();
-                batch.rotations.clear();
-                for (&id, &(offset, axis_rotation)) in batch.bodies.iter().zip(&batch.local_offsets)
-                {
-                    let body = world.body(id);
-                    batch
-                        .translations
-                        .push((body.position + body.orientation * offset).to_array());
-                    let q = body.orientation * axis_rotation;
-                    batch
-                        .rotations
-                        .push(rerun::Quaternion::from_xyzw(q.to_array()));
-                }
                 let colors = sleep_colors(batch, world);
-                let entity = batch.entity.as_str();
-                match world.body(batch.bodies[0]).shape {
-                    Shape::Capsule { .. } => rec.log(
-                        entity,
-                        &with_colors_if_any(
-                            rerun::Capsules3D::update_fields()
-                                .with_translations(batch.translations.iter().copied())
-                                .with_quaternions(batch.rotations.iter().copied()),
-                            colors,
-                        ),
-                    )?,
-                    Shape::HalfSpace => unreachable!("half-spaces are not batched"),
-                    Shape::Sphere { .. } => rec.log(
-                        entity,
-                        &with_colors_if_any(
-                            rerun::Ellipsoids3D::update_fields()
-                                .with_centers(batch.translations.iter().copied())
-                                .with_quaternions(batch.rotations.iter().copied()),
-                            colors,
-                        ),
-                    )?,
-                    Shape::Cuboid { .. } => rec.log(
-                        entity,
-                        &with_colors_if_any(
-                            rerun::Boxes3D::update_fields()
-                                .with_centers(batch.translations.iter().copied())
-                                .with_quaternions(batch.rotations.iter().copied()),
-                            colors,
-                        ),
-                    )?,
-                }
+                log_poses(rec, world, batch, colors)?;
             }
         }
         if self.options.joints {

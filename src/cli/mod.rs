@@ -1,4 +1,5 @@
-//! Command line: `rodlab` (the main job), `rodlab run SCENE`, `rodlab check SCENE...`.
+//! Command line: `rodlab` (the main job), `rodlab run SCENE`, `rodlab sweep SCENE`, `rodlab tune
+//! [SCENE]`, `rodlab stress`, `rodlab check SCENE...`.
 //! `rerun::clap::RerunArgs` is flattened into `run`, so `--save`, `--spawn` and `--connect`
 //! behave as in every Rerun example; without any of them a run saves to
 //! `recordings/<scene>.rrd`.
@@ -16,8 +17,11 @@ use crate::metrics::FrameMetrics;
 use crate::ragdoll::SpineKind;
 use crate::record::{self, Recorder};
 use crate::scene::Scene;
+use crate::shard::Shard;
 use crate::sim::{self, Observer, Overrides, RunReport};
 use crate::world::{SimulationError, SolverKind};
+
+pub mod tune;
 
 #[derive(Debug, Parser)]
 #[command(
@@ -61,6 +65,10 @@ pub enum Command {
     /// Speed against accuracy: runs SCENE headless for every spine, joint flavour, time step
     /// and iteration count -> <out>/<scene>_sweep.csv, .svg (chart) and .rrd.
     Sweep(SweepArgs),
+    /// Tuning by eye: every combination of bend and twist settings (and iteration counts) as
+    /// one copy of the scene's rod-spine ragdoll on a labelled grid -> <out>/tune.rrd, .csv,
+    /// .svg, .png; or, with --match-psi / --match, the settings that settle at a bend.
+    Tune(tune::TuneArgs),
     /// The stability suite: every case for every method, a verdict each -> <out>/stress.md,
     /// <out>/stress.csv, and a recording of every run that is not stable (<out>/stress/).
     Stress {
@@ -118,6 +126,10 @@ pub struct SweepArgs {
     /// Another engine measured the same way (rapier).
     #[arg(long)]
     pub peer: Option<String>,
+    /// Run only shard I of N of the combinations (I/N, e.g. 2/3; combination k goes to shard
+    /// k mod N + 1); outputs get a _shardIofN suffix.
+    #[arg(long, value_parser = |s: &str| s.parse::<crate::shard::Shard>())]
+    pub shard: Option<crate::shard::Shard>,
     #[arg(long, default_value = "recordings")]
     pub out: PathBuf,
 }
@@ -301,7 +313,8 @@ fn dispatch(cli: Cli, matches: &ArgMatches) -> anyhow::Result<()> {
                 frames: args.frames,
                 repeats: args.repeats,
             };
-            sweep(&args.scene, &config, args.peer.as_deref(), &args.out).map(|_| ())
+            let shard = args.shard.unwrap_or(Shard::ALL);
+            sweep(&args.scene, &config, args.peer.as_deref(), shard, &args.out).map(|_| ())
         }
         Some(Command::All {
             scenes,
@@ -320,6 +333,7 @@ fn dispatch(cli: Cli, matches: &ArgMatches) -> anyhow::Result<()> {
             run_one(&scene, record_from, &rerun, rerun_sink_given(sub))
         }
         Some(Command::Check { scenes }) => check(&scenes),
+        Some(Command::Tune(args)) => tune::tune(&args),
         Some(Command::Stress { out }) => stress(&out),
     }
 }
@@ -334,7 +348,10 @@ fn main_job() -> anyhow::Result<()> {
         substeps: vec![1, 4],
         ..Default::default()
     };
-    sweep(&path, &config, None, out)?;
+    sweep(&path, &config, None, Shard::ALL, out)?;
+    // the default tuning grid of passive bending's rod spine
+    let scene = Scene::load(&path)?;
+    tune::run_grid(&scene, &crate::tune::TuneConfig::default(), out)?;
     stress(out)
 }
 
@@ -440,6 +457,7 @@ fn sweep(
     path: &Path,
     config: &crate::sweep::SweepConfig,
     peer: Option<&str>,
+    shard: Shard,
     out: &Path,
 ) -> anyhow::Result<Vec<crate::sweep::SweepRow>> {
     use crate::sweep;
@@ -454,15 +472,28 @@ fn sweep(
     }
     let scene = Scene::load(path)?;
     let name = scene.name();
-    let combinations = sweep::combinations(&scene.def, config);
+    let all = sweep::combinations(&scene.def, config);
+    let first_peer = all.len();
+    let combinations: Vec<Overrides> = (all.into_iter().enumerate())
+        .filter(|(i, _)| shard.takes(*i))
+        .map(|(_, o)| o)
+        .collect();
     let machine = sweep::machine_name();
     let peer_runs = if peer.is_some() {
-        config.iterations.len() * config.dts.len().max(1)
+        let count = config.iterations.len() * config.dts.len().max(1);
+        (first_peer..first_peer + count)
+            .filter(|&i| shard.takes(i))
+            .count()
     } else {
         0
     };
     let runs = combinations.len() + peer_runs;
-    println!("== sweep {name}: {runs} runs on {machine}");
+    let of = if shard == Shard::ALL {
+        String::new()
+    } else {
+        format!(" (shard {}/{})", shard.index, shard.count)
+    };
+    println!("== sweep {name}: {runs} runs on {machine}{of}");
     let mut progress = Progress::new(runs);
     let mut rows = Vec::with_capacity(combinations.len());
     for overrides in &combinations {
@@ -480,7 +511,12 @@ fn sweep(
         rows.push(sweep::run_one(&scene, overrides, config.repeats)?);
     }
     if peer.is_some() {
-        rows.extend(peer_rows(&scene, config, &mut progress)?);
+        rows.extend(peer_rows(
+            &scene,
+            config,
+            (first_peer, shard),
+            &mut progress,
+        )?);
     }
     progress.finish();
     println!(
@@ -507,17 +543,18 @@ fn sweep(
         }
     }
     std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
-    let csv = out.join(format!("{name}_sweep.csv"));
+    let stem = format!("{name}_sweep{}", shard.suffix());
+    let csv = out.join(format!("{stem}.csv"));
     std::fs::write(&csv, sweep::to_csv(&rows))
         .with_context(|| format!("cannot write {}", csv.display()))?;
-    let svg = out.join(format!("{name}_sweep.svg"));
+    let svg = out.join(format!("{stem}.svg"));
     let chart = sweep::chart(&name, &rows, &machine);
     std::fs::write(&svg, chart.to_svg())
         .with_context(|| format!("cannot write {}", svg.display()))?;
-    let png = out.join(format!("{name}_sweep.png"));
+    let png = out.join(format!("{stem}.png"));
     let png_bytes = chart.to_png()?;
     std::fs::write(&png, &png_bytes).with_context(|| format!("cannot write {}", png.display()))?;
-    let rrd = out.join(format!("{name}_sweep.rrd"));
+    let rrd = out.join(format!("{stem}.rrd"));
     record::save_sweep(&rrd, &name, &rows, &machine, &png_bytes)?;
     println!(
         "  -> {}, {} (and .png), {}",
@@ -525,7 +562,11 @@ fn sweep(
         svg.display(),
         rrd.display()
     );
-    feature_costs(&scene, out)?;
+    if shard.index == 1 {
+        feature_costs(&scene, out)?;
+    } else {
+        println!("  (the feature costs are measured by shard 1)");
+    }
     Ok(rows)
 }
 
@@ -535,8 +576,10 @@ fn sweep(
 fn peer_rows(
     scene: &Scene,
     config: &crate::sweep::SweepConfig,
+    (first_index, shard): (usize, Shard),
     progress: &mut Progress,
 ) -> anyhow::Result<Vec<crate::sweep::SweepRow>> {
+    let mut index = first_index;
     let dts = if config.dts.is_empty() {
         vec![scene.def.dt]
     } else {
@@ -545,6 +588,10 @@ fn peer_rows(
     let mut rows = Vec::new();
     for dt in dts {
         for &iterations in &config.iterations {
+            index += 1;
+            if !shard.takes(index - 1) {
+                continue;
+            }
             progress.show(&format!("rapier dt={dt:.4} iterations={iterations}"));
             let mut peer_scene = scene.clone();
             Overrides {
@@ -566,6 +613,7 @@ fn peer_rows(
 fn peer_rows(
     _: &Scene,
     _: &crate::sweep::SweepConfig,
+    _: (usize, Shard),
     _: &mut Progress,
 ) -> anyhow::Result<Vec<crate::sweep::SweepRow>> {
     anyhow::bail!("--peer rapier: built without the feature `rapier`")

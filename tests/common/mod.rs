@@ -1,0 +1,50 @@
+//! Helpers shared by the tests that read recordings back.
+#![allow(dead_code)]
+
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+
+use rerun::external::re_log_encoding::DecoderApp;
+use rerun::log::{Chunk, LogMsg};
+
+/// A path in this test process's own temporary folder.
+pub fn temp_path(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("rodlab-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+/// All data chunks of the recording (not the blueprint), decoded with Rerun's decoder.
+pub fn decode(path: &Path) -> Vec<Chunk> {
+    let file = std::io::BufReader::new(std::fs::File::open(path).unwrap());
+    let mut chunks = Vec::new();
+    for msg in DecoderApp::decode_lazy(file) {
+        let msg = msg.expect("recording decodes");
+        if let LogMsg::ArrowMsg(store, arrow) = msg {
+            if store.kind() == rerun::StoreKind::Recording {
+                chunks.push(Chunk::from_arrow_msg(&arrow).expect("chunk decodes"));
+            }
+        }
+    }
+    chunks
+}
+
+/// Frames at which `entity` received a component whose name ends with `component`.
+pub fn frames_with(chunks: &[Chunk], entity: &str, component: &str) -> BTreeSet<i64> {
+    let mut frames = BTreeSet::new();
+    for chunk in chunks
+        .iter()
+        .filter(|c| c.entity_path().to_string() == format!("/{entity}") && !c.is_static())
+    {
+        if !chunk
+            .component_descriptors()
+            .any(|d| d.component.as_str().ends_with(component))
+        {
+            continue;
+        }
+        if let Some(column) = chunk.timelines().get(&"frame".into()) {
+            frames.extend(column.times_raw().iter().copied());
+        }
+    }
+    frames
+}
