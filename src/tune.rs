@@ -463,9 +463,9 @@ pub fn chart(scene: &str, rows: &[TuneRow]) -> Chart {
         Softness::Stiffness(_) => "bend stiffness (N m/rad)",
     };
     Chart {
-        title: format!("{scene}: settled bend after tuning"),
+        title: format!("{scene}: the bend each setting ends at"),
         x_label: x_label.into(),
-        y_label: "settled psi (rad)".into(),
+        y_label: format!("psi, mean of the last {SETTLED_WINDOW_S} s (rad)"),
         x_log: rows.iter().all(|r| r.copy.bend.columns().1 > 0.0),
         y_log: false,
         series,

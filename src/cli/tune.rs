@@ -252,13 +252,13 @@ pub fn run_grid(scene: &Scene, config: &TuneConfig, out: &Path) -> anyhow::Resul
         recorder.frame(frame, labs)
     })?;
     println!(
-        "  {:<44} {:>9} {:>9} {:>10} {:>9} {:>9} {:>9}",
+        "  {:<50} {:>9} {:>9} {:>10} {:>9} {:>9} {:>9}",
         "copy", "psi rad", "tau rad", "overshoot", "psi s", "tau s", "disl cm"
     );
     for r in &rows {
         match &r.failed {
             None => println!(
-                "  {:<44} {:>9.4} {:>9.4} {:>10.4} {:>9.2} {:>9.2} {:>9.4}",
+                "  {:<50} {:>9.4} {:>9.4} {:>10.4} {:>9.2} {:>9.2} {:>9.4}",
                 r.copy.label(),
                 r.final_psi,
                 r.final_tau,
@@ -267,7 +267,7 @@ pub fn run_grid(scene: &Scene, config: &TuneConfig, out: &Path) -> anyhow::Resul
                 r.tau_settling_s,
                 r.mean_dislocation_cm
             ),
-            Some(e) => println!("  {:<44} failed: {e}", r.copy.label()),
+            Some(e) => println!("  {:<50} failed: {e}", r.copy.label()),
         }
     }
     let csv = tune::to_csv(&rows);
