@@ -63,6 +63,8 @@ pub struct RunReport {
     /// After the last frame, the awake bodies too fast to fall asleep, fastest first, with
     /// their names ([`crate::sleep::restless_bodies`]).
     pub restless: Vec<(String, crate::sleep::Restless)>,
+    /// [`crate::world::World::state_hash`] after the last frame.
+    pub state_hash: u64,
 }
 
 impl RunReport {
@@ -127,5 +129,6 @@ pub fn run(lab: &mut Lab, frames: u32, observer: &mut dyn Observer) -> anyhow::R
         restless: (crate::sleep::restless_bodies(&lab.world.bodies).into_iter())
             .map(|r| (lab.world.body(r.body).name.clone(), r))
             .collect(),
+        state_hash: lab.world.state_hash(),
     })
 }

@@ -81,6 +81,32 @@ impl World {
         &mut self.bodies[id.index()]
     }
 
+    /// A hash (FNV-1a, 64 bits) of every body's pose, velocities and sleep state, bit for bit:
+    /// two runs that agree exactly give the same hash.
+    pub fn state_hash(&self) -> u64 {
+        let mut hash = 0xcbf2_9ce4_8422_2325u64;
+        let mut eat = |x: u32| {
+            for byte in x.to_le_bytes() {
+                hash = (hash ^ byte as u64).wrapping_mul(0x0100_0000_01b3);
+            }
+        };
+        for b in &self.bodies {
+            let q = b.orientation;
+            let values = [
+                b.position.to_array(),
+                b.linear_velocity.to_array(),
+                b.angular_velocity.to_array(),
+            ];
+            values
+                .iter()
+                .flatten()
+                .chain(&[q.x, q.y, q.z, q.w])
+                .for_each(|v| eat(v.to_bits()));
+            eat(b.is_asleep() as u32);
+        }
+        hash
+    }
+
     /// Every rod's state at the current poses, in constraint order.
     pub fn rod_states(&self) -> impl Iterator<Item = crate::constraint::RodState> + '_ {
         self.constraints.iter().filter_map(|c| match c {

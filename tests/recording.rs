@@ -156,3 +156,86 @@ fn nan_stops_the_run() {
         "{text}"
     );
 }
+
+/// Three runs of the drop give one state hash (bit for bit the same final state), a change of
+/// method gives another, and the recording stores the hash the summary prints.
+#[test]
+fn three_runs_give_one_state_hash_and_the_recording_keeps_it() {
+    let mut scene = Scene::load(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenes/ragdoll_drop.toml"
+    ))
+    .unwrap();
+    Overrides {
+        frames: Some(45),
+        ..Default::default()
+    }
+    .apply(&mut scene.def);
+    let hashes: Vec<u64> = (0..3)
+        .map(|_| {
+            let mut lab = scene.build().unwrap();
+            rodlab::sim::run(&mut lab, 45, &mut rodlab::sim::NoObserver)
+                .unwrap()
+                .state_hash
+        })
+        .collect();
+    assert!(hashes.iter().all(|&h| h == hashes[0]), "{hashes:x?}");
+    let mut other = scene.clone();
+    other.def.iterations += 1;
+    let mut lab = other.build().unwrap();
+    let changed = rodlab::sim::run(&mut lab, 45, &mut rodlab::sim::NoObserver).unwrap();
+    assert_ne!(changed.state_hash, hashes[0]);
+    let path = temp_path("drop_hash.rrd");
+    let report = record_scene(&scene, record::save_to(&path, &scene).unwrap()).unwrap();
+    assert_eq!(report.state_hash, hashes[0]);
+    let stored: Vec<String> = decode(&path)
+        .iter()
+        .filter(|c| c.is_static() && c.entity_path().to_string() == "/state_hash")
+        .flat_map(|c| {
+            let d = (c.component_descriptors())
+                .find(|d| d.component.as_str().ends_with("text"))
+                .unwrap();
+            c.iter_slices::<String>(d.component)
+                .flatten()
+                .map(|s| s.to_string())
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    assert_eq!(stored, vec![format!("{:016x}", hashes[0])]);
+}
+
+/// `run --save` refuses to write over the scene being run, and over an existing file that is
+/// not an `.rrd` unless `--force`; the files stay as they were.
+#[test]
+fn save_refuses_to_overwrite_the_scene_or_a_file_that_is_not_a_recording() {
+    let scene = temp_path("guarded.toml");
+    std::fs::copy(
+        concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/passive_bending.toml"),
+        &scene,
+    )
+    .unwrap();
+    let notes = temp_path("notes.txt");
+    std::fs::write(&notes, "keep me").unwrap();
+    let run = |save: &std::path::Path, force: bool| {
+        let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_rodlab"));
+        command
+            .arg("run")
+            .arg(&scene)
+            .args(["--frames", "2", "--save"])
+            .arg(save);
+        if force {
+            command.arg("--force");
+        }
+        command.output().unwrap()
+    };
+    let original = std::fs::read_to_string(&scene).unwrap();
+    for (target, force) in [(&scene, false), (&scene, true), (&notes, false)] {
+        let out = run(target, force);
+        assert!(!out.status.success(), "{target:?} force {force}");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(stderr.contains("--save"), "{stderr}");
+    }
+    assert_eq!(std::fs::read_to_string(&scene).unwrap(), original);
+    assert_eq!(std::fs::read_to_string(&notes).unwrap(), "keep me");
+    assert!(run(&notes, true).status.success());
+}

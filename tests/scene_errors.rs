@@ -656,3 +656,111 @@ fn rod_overrides_replace_each_other_and_refuse_what_they_cannot_do() {
     let r = &scene.def.ragdoll[0];
     assert_eq!((r.alpha_b, r.bend_stiffness), (Some(0.3), None));
 }
+
+/// The documented bounds (`src/scene/bounds.rs`): counts that would never finish or would not
+/// fit in memory, numbers that are not finite, names that would write outside the output
+/// folder, starting speeds past the explosion bounds: each refused, naming its line and field.
+#[test]
+fn numbers_out_of_their_bounds_name_their_field() {
+    let cases = [
+        (
+            "iterations = 10",
+            "iterations = 2147483647",
+            "iterations",
+            "at most 10000",
+        ),
+        ("dt = 0.01", "dt = 5.0", "dt", "at most 1 s"),
+        (
+            "dt = 0.01",
+            "dt = 0.01\ncontact_margin = nan",
+            "contact_margin",
+            "distance",
+        ),
+        (
+            "dt = 0.01",
+            "dt = 0.01\ngravity = [0.0, -1e30, 0.0]",
+            "gravity",
+            "finite",
+        ),
+        (
+            "dt = 0.01",
+            "dt = 0.01\nname = \"../../x\"",
+            "name",
+            "cannot name a recording",
+        ),
+        (
+            "half_extents = [1.0, 0.1, 1.0]",
+            "half_extents = [1e30, 0.1, 1.0]",
+            "body[0].half_extents",
+            "finite",
+        ),
+        (
+            "position = [0.0, 1.0, 0.0]",
+            "position = [0.0, nan, 0.0]",
+            "body[1].position",
+            "finite",
+        ),
+        (
+            "position = [0.0, 1.0, 0.0]",
+            "position = [0.0, 1.0, 0.0]\nvelocity = [1000.0, 0.0, 0.0]",
+            "body[1].velocity",
+            "max_speed",
+        ),
+        (
+            "anchor = [0.0, 0.5, 0.0]",
+            "anchor = [0.0, inf, 0.0]",
+            "joint[0].anchor",
+            "finite",
+        ),
+        (
+            "spine = \"chain3\"",
+            "spine = \"chain3\"\nalpha_b = 2.0",
+            "ragdoll[0].alpha_b",
+            "[0, 1]",
+        ),
+        (
+            "spine = \"chain3\"",
+            "spine = \"chain3\"\nposition = [inf, 0.0, 0.0]",
+            "ragdoll[0].position",
+            "finite",
+        ),
+    ];
+    for (from, to, field, words) in cases {
+        let e = error_for(from, to);
+        let text = GOOD.replacen(from, to, 1);
+        let needle = to.lines().last().unwrap();
+        let line = text.lines().position(|l| l == needle).unwrap() + 1;
+        assert!(
+            e.starts_with(&format!("scenes/x.toml:{line}: {field}: ")),
+            "{to}: {e}"
+        );
+        assert!(e.contains(words), "{to}: {e}");
+    }
+    // a [drop] block too large to allocate is refused before it makes its ragdolls
+    let text = format!(
+        "{GOOD}\n[drop]\ncount = 18446744073709551615\nfirst = [0.0, 1.0, 0.0]\nspacing = [1.0, 2.0, 1.0]\ncolumns = 2\nrows = 2\n"
+    );
+    let e = Scene::parse("scenes/x.toml", &text)
+        .unwrap_err()
+        .to_string();
+    let line = text.lines().position(|l| l.starts_with("count")).unwrap() + 1;
+    assert!(
+        e.starts_with(&format!("scenes/x.toml:{line}: drop.count: ")),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_file_that_is_not_utf8_names_the_line_of_its_bad_byte() {
+    let path = std::env::temp_dir().join(format!("rodlab-not-utf8-{}.toml", std::process::id()));
+    let mut bytes = GOOD.as_bytes().to_vec();
+    let at = GOOD.find("frames").unwrap();
+    bytes.insert(at, 0xFF);
+    std::fs::write(&path, bytes).unwrap();
+    let e = Scene::load(&path).unwrap_err().to_string();
+    let line = line_of("frames =");
+    assert!(
+        e.starts_with(&format!("{}:{line}: not UTF-8", path.display())),
+        "{e}"
+    );
+}

@@ -57,6 +57,9 @@ pub enum Command {
         /// a smaller file of how a long run ends.
         #[arg(long, value_parser = non_negative, default_value_t = 0.0)]
         record_from: f32,
+        /// Let --save write over an existing file that is not an .rrd (never over the scene).
+        #[arg(long)]
+        force: bool,
         #[command(flatten)]
         overrides: OverrideArgs,
         #[command(flatten)]
@@ -325,10 +328,14 @@ fn dispatch(cli: Cli, matches: &ArgMatches) -> anyhow::Result<()> {
             scene,
             variant,
             record_from,
+            force,
             overrides,
             rerun,
         }) => {
             let sub = matches.subcommand_matches("run").expect("run subcommand");
+            if let Some(out) = sub.get_one::<PathBuf>("save") {
+                check_output(out, &scene, force)?;
+            }
             let scene = load_scene(&scene, variant.as_deref(), &(&overrides).into())?;
             run_one(&scene, record_from, &rerun, rerun_sink_given(sub))
         }
@@ -721,6 +728,29 @@ fn rerun_sink_given(matches: &ArgMatches) -> bool {
         .any(|id| matches!(matches.value_source(id), Some(ValueSource::CommandLine)))
 }
 
+/// Refuses to write a recording over the scene file being run, or (unless `force`) over an
+/// existing file that is not an `.rrd`.
+fn check_output(out: &Path, scene: &Path, force: bool) -> anyhow::Result<()> {
+    let same = |a: &Path, b: &Path| match (a.canonicalize(), b.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    };
+    if same(out, scene) {
+        anyhow::bail!(
+            "--save {}: that is the scene being run; choose another file",
+            out.display()
+        );
+    }
+    let is_rrd = out.extension().is_some_and(|e| e == "rrd");
+    if out.exists() && !is_rrd && !force {
+        anyhow::bail!(
+            "--save {}: the file exists and is not an .rrd recording; pass --force to write over it",
+            out.display()
+        );
+    }
+    Ok(())
+}
+
 /// Loads a scene, at its `[[variant]]` `variant` if given, with the command line's overrides.
 pub fn load_scene(
     path: &Path,
@@ -767,6 +797,7 @@ pub fn record_scene_from(
             awake_bodies: Vec::new(),
             profile: Default::default(),
             restless: Vec::new(),
+            state_hash: 0,
         });
     }
     let mut lab = scene.build()?;
@@ -779,8 +810,10 @@ pub fn record_scene_from(
         inner: &mut late,
         every: scene.def.report_every,
     };
-    sim::run(&mut lab, scene.def.frames, &mut observer)
-        .with_context(|| format!("{}: simulation stopped", scene.path.display()))
+    let report = sim::run(&mut lab, scene.def.frames, &mut observer)
+        .with_context(|| format!("{}: simulation stopped", scene.path.display()))?;
+    recorder.finish(&report)?;
+    Ok(report)
 }
 
 /// Hands on the frames at or after the simulated time `from` (s) only; a failure always.
@@ -1008,7 +1041,7 @@ pub fn print_summary(name: &str, scene: &Scene, report: &RunReport) {
     }
     println!(
         "{name}: {} frames, dt {:.4} s, {} substep(s) x {} iterations, {} solver on {} thread(s), \
-         {:.0} steps/s (stepping only), energy {:.1} J -> {:.1} J",
+         {:.0} steps/s (stepping only), energy {:.1} J -> {:.1} J, state hash {:016x}",
         report.frames,
         scene.def.dt,
         scene.def.substeps,
@@ -1017,7 +1050,8 @@ pub fn print_summary(name: &str, scene: &Scene, report: &RunReport) {
         rayon::current_num_threads(),
         report.steps_per_second(),
         report.initial_energy,
-        report.final_energy
+        report.final_energy,
+        report.state_hash
     );
     if report.ragdolls.len() > 4 {
         let frames = report.total_dislocation_cm.len().max(1) as f32;

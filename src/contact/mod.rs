@@ -146,14 +146,16 @@ impl ContactPoint {
             return;
         }
         let needed = length / w;
-        let applied = if self.friction_impulse + needed
-            <= self.static_friction * self.normal_impulse
-        {
-            needed
-        } else {
-            self.sticking = false;
-            (self.dynamic_friction * self.normal_impulse - self.friction_impulse).clamp(0.0, needed)
-        };
+        let applied =
+            if self.friction_impulse + needed <= self.static_friction * self.normal_impulse {
+                needed
+            } else {
+                self.sticking = false;
+                // max/min, not clamp: no panic on a NaN bound (a NaN is caught after the step)
+                (self.dynamic_friction * self.normal_impulse - self.friction_impulse)
+                    .max(0.0)
+                    .min(needed)
+            };
         if applied > 0.0 {
             a.apply_positional_impulse(applied * t, ra);
             b.apply_positional_impulse(-applied * t, rb);

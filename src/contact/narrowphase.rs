@@ -75,7 +75,7 @@ pub fn capsule_capsule(a: &Collider, b: &Collider, margin: f32, out: &mut Vec<Fe
     if parallel {
         // the two ends of the overlap of b's segment projected on a's
         let axis = da.normalize();
-        let project = |p: Vec3| (p - a0).dot(axis).clamp(0.0, da.length());
+        let project = |p: Vec3| (p - a0).dot(axis).max(0.0).min(da.length());
         let (s0, s1) = (project(b0), project(b1));
         if (s0 - s1).abs() > 1e-6 {
             for (s, id) in [(s0, 1), (s1, 2)] {
@@ -285,7 +285,7 @@ mod tests {
             && da.normalize().cross(db.normalize()).length() < 1e-3;
         if parallel {
             let axis = da.normalize();
-            let project = |p: Vec3| (p - a0).dot(axis).clamp(0.0, da.length());
+            let project = |p: Vec3| (p - a0).dot(axis).max(0.0).min(da.length());
             let (s0, s1) = (project(b0), project(b1));
             if (s0 - s1).abs() > 1e-6 {
                 for (s, id) in [(s0, 1), (s1, 2)] {

@@ -15,7 +15,8 @@
 //! - `metrics/energy/{kinetic,potential,total}`: energy (J);
 //! - `metrics/awake_bodies`: dynamic bodies awake, with sleeping on (sleeping bodies are drawn
 //!   in their colour faded toward grey);
-//! - `scene`: the scene file (static), `failure`: why a run stopped early, if it did.
+//! - `scene`: the scene file (static), `failure`: why a run stopped early, if it did,
+//!   `state_hash`: the final state's hash (static text, 16 hex digits) after a whole run.
 //!
 //! Timelines: `frame` (sequence, 0 = initial state) and `sim_time` (seconds).
 
@@ -427,6 +428,16 @@ impl Recorder {
 
     pub fn stream(&self) -> &RecordingStream {
         &self.rec
+    }
+
+    /// After a whole run: its final state hash (`state_hash`, static text), then a flush.
+    pub fn finish(&self, report: &crate::sim::RunReport) -> anyhow::Result<()> {
+        self.rec.log_static(
+            "state_hash",
+            &rerun::TextDocument::new(format!("{:016x}", report.state_hash)),
+        )?;
+        self.rec.flush_blocking()?;
+        Ok(())
     }
 
     fn log_static(&mut self, lab: &Lab, scene: &Scene) -> anyhow::Result<()> {

@@ -3,6 +3,7 @@
 //!
 //! Every error reads `FILE:LINE: FIELD: message`, for syntax, type and semantic mistakes alike.
 
+pub mod bounds;
 mod locate;
 mod overrides;
 mod variant;
@@ -643,8 +644,17 @@ impl Scene {
     /// Reads and checks a scene file.
     pub fn load(path: impl AsRef<Path>) -> anyhow::Result<Scene> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path)
+        let bytes = std::fs::read(path)
             .map_err(|e| anyhow::anyhow!("{}: cannot read scene file: {e}", path.display()))?;
+        let text = String::from_utf8(bytes).map_err(|e| {
+            let valid = &e.as_bytes()[..e.utf8_error().valid_up_to()];
+            let line = valid.iter().filter(|&&b| b == b'\n').count() + 1;
+            let column = valid.iter().rev().take_while(|&&b| b != b'\n').count() + 1;
+            anyhow::anyhow!(
+                "{}:{line}: not UTF-8 text (a bad byte at column {column}); scene files are UTF-8 TOML",
+                path.display()
+            )
+        })?;
         Ok(Scene::parse(path, &text)?)
     }
 
@@ -662,16 +672,17 @@ impl Scene {
                 message: tidy_serde_message(e.message()),
             }
         })?;
-        let mut def = def;
-        if let Some(drop) = &def.drop {
-            let generated = drop.expand();
-            def.ragdoll.extend(generated);
-        }
         let mut scene = Scene {
             path,
             text: text.to_string(),
             def,
         };
+        // the drop block is checked before it makes its ragdolls
+        if let Some(drop) = &scene.def.drop {
+            bounds::check_drop(drop).map_err(|(p, message)| scene.error_at(&p, message))?;
+            let generated = drop.expand();
+            scene.def.ragdoll.extend(generated);
+        }
         // tiles are checked where they are written, then copied into `body`
         scene
             .check_tiles()
@@ -736,6 +747,13 @@ impl Scene {
             if t.body.is_empty() {
                 return Err((at(i, "body"), "needs at least one [[tile.body]]".into()));
             }
+            let made = bounds::tile_bodies(t.repeat, t.body.len());
+            if made > bounds::MAX_TILE_BODIES {
+                return Err((
+                    at(i, "repeat"),
+                    format!("makes {made} bodies, more than {}", bounds::MAX_TILE_BODIES),
+                ));
+            }
             let mut names: Vec<&str> = Vec::new();
             for (j, b) in t.body.iter().enumerate() {
                 let field = |f: &str| {
@@ -762,6 +780,8 @@ impl Scene {
                     ));
                 }
                 check_body(b).map_err(|(f, m)| (field(f), m))?;
+                bounds::check_body(b, d.max_speed, d.max_angular_speed)
+                    .map_err(|(f, m)| (field(f), m))?;
                 for other in &d.body {
                     if other.name == t.copy_name(0, 0, &b.name) {
                         return Err((
@@ -785,6 +805,9 @@ impl Scene {
             vec![Seg::Key(list.into()), Seg::Index(i), Seg::Key(field.into())]
         };
         check_settings(d, &[])?;
+        if let Some(name) = &d.name {
+            bounds::check_scene_name(name).map_err(|m| (vec![Seg::Key("name".into())], m))?;
+        }
         let mut variants: Vec<&str> = Vec::new();
         for (i, v) in d.variant.iter().enumerate() {
             variant::check_variant_name(&v.name, &variants)
@@ -795,17 +818,30 @@ impl Scene {
         }
         if let Some(k) = &d.kinematics {
             let field = |f: &str| vec![Seg::Key("kinematics".into()), Seg::Key(f.into())];
-            if !(k.length > 0.0) {
+            if !(k.length > 0.0 && k.length <= bounds::MAX_SIZE) {
                 return Err((
                     field("length"),
-                    format!("must be positive, got {}", k.length),
+                    format!(
+                        "must be positive, at most {} m, got {}",
+                        bounds::MAX_SIZE,
+                        k.length
+                    ),
                 ));
             }
-            if k.joints == 0 {
-                return Err((field("joints"), "must be at least 1".into()));
+            if !(1..=1000).contains(&k.joints) {
+                return Err((
+                    field("joints"),
+                    format!("must lie in [1, 1000], got {}", k.joints),
+                ));
+            }
+            if !(k.max_bend.abs() <= bounds::MAX_DEGREES) {
+                return Err((
+                    field("max_bend"),
+                    format!("must be a finite angle (deg), got {}", k.max_bend),
+                ));
             }
             if k.unequal.len() != k.joints
-                || k.unequal.iter().any(|w| !(*w >= 0.0))
+                || k.unequal.iter().any(|w| !(*w >= 0.0 && w.is_finite()))
                 || k.unequal.iter().sum::<f32>() <= 0.0
             {
                 return Err((
@@ -836,6 +872,7 @@ impl Scene {
             r.stiffness()
                 .check(r.alpha_b.is_some(), r.alpha_t.is_some())
                 .map_err(|(f, m)| (at("ragdoll", i, f), m))?;
+            bounds::check_ragdoll(r, |f| at("ragdoll", i, f))?;
             let joints = joint_names(r.spine);
             for joint in r.pose.keys() {
                 if !joints.contains(&joint.as_str()) {
@@ -882,12 +919,17 @@ impl Scene {
             check_name(&b.name, &body_names).map_err(|m| (at("body", i, "name"), m))?;
             body_names.push(&b.name);
             check_body(b).map_err(|(field, m)| (at("body", i, field), m))?;
+            bounds::check_body(b, d.max_speed, d.max_angular_speed)
+                .map_err(|(field, m)| (at("body", i, field), m))?;
         }
         for (i, r) in d.rod.iter().enumerate() {
             check_name(&r.name, &names).map_err(|m| (at("rod", i, "name"), m))?;
             names.push(&r.name);
             check_pair(&r.a, &r.b, &body_names).map_err(|(f, m)| (at("rod", i, f), m))?;
-            if let Some(l) = r.rest_length.filter(|l| !(*l > 0.0 && l.is_finite())) {
+            if let Some(l) = r
+                .rest_length
+                .filter(|l| !(*l > 0.0 && *l <= bounds::MAX_SIZE))
+            {
                 return Err((
                     at("rod", i, "rest_length"),
                     format!("must be a positive length, got {l}"),
@@ -904,6 +946,7 @@ impl Scene {
             check_name(&j.name, &joint_names_seen).map_err(|m| (at("joint", i, "name"), m))?;
             joint_names_seen.push(&j.name);
             check_pair(&j.a, &j.b, &body_names).map_err(|(f, m)| (at("joint", i, f), m))?;
+            bounds::check_joint(j).map_err(|(f, m)| (at("joint", i, f), m))?;
             check_relaxation(j.spring).map_err(|m| (at("joint", i, "spring"), m))?;
             if Vec3::from(j.axis).length() < 1e-6 {
                 return Err((at("joint", i, "axis"), "must be a non-zero vector".into()));
@@ -1122,7 +1165,7 @@ fn check_settings(d: &SceneDef, prefix: &[Seg]) -> Result<(), (Vec<Seg>, String)
             format!("must be 0 or more, got {}", d.contact_damping_ratio),
         ));
     }
-    Ok(())
+    bounds::check_settings(d, prefix)
 }
 
 fn check_name(name: &str, seen: &[&str]) -> Result<(), String> {
