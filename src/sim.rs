@@ -16,6 +16,11 @@ pub trait Observer {
     fn frame(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()>;
     /// Called when the simulation fails, after the last good frame was observed.
     fn failed(&mut self, _lab: &Lab, _error: &SimulationError) {}
+    /// Asked after every frame: true ends the run there, as a whole run (its report covers
+    /// the frames done).
+    fn stop_requested(&self) -> bool {
+        false
+    }
 }
 
 /// An observer that ignores everything.
@@ -114,9 +119,12 @@ pub fn run(lab: &mut Lab, frames: u32, observer: &mut dyn Observer) -> anyhow::R
             report.summary.add(*residual);
         }
         observer.frame(lab, &metrics)?;
+        if observer.stop_requested() {
+            break;
+        }
     }
     Ok(RunReport {
-        frames,
+        frames: total_dislocation_cm.len() as u32,
         ragdolls,
         initial_energy,
         final_energy: metrics.total_energy(),

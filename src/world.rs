@@ -144,7 +144,10 @@ impl World {
         );
         self.frame += 1;
         self.time += self.settings.dt as f64;
-        self.check_health()?;
+        let started = std::time::Instant::now();
+        let health = self.check_health();
+        self.solver.profile.health = started.elapsed().as_secs_f64();
+        health?;
         // 5. sleeping: islands that stayed still leave the step, reached ones come back
         let started = std::time::Instant::now();
         self.awake_bodies = if self.settings.sleep {
@@ -170,31 +173,31 @@ impl World {
             .sum()
     }
 
-    /// Step 5 of the solver: NaN, infinity or a speed above the bounds stops the run.
+    /// Step 4 of the solver: NaN or infinity in any body (fixed and kinematic too), a dynamic
+    /// body faster than the speed bounds, a joint or rod apart by more than `max_separation`,
+    /// or a contact deeper than `max_penetration` stops the run.
     pub fn check_health(&self) -> Result<(), SimulationError> {
-        for (index, body) in self
-            .bodies
-            .iter()
-            .enumerate()
-            .filter(|(_, b)| b.is_dynamic())
-        {
+        let settings = &self.settings;
+        for (index, body) in self.bodies.iter().enumerate() {
             let finite = body.position.is_finite()
                 && body.orientation.is_finite()
                 && body.linear_velocity.is_finite()
                 && body.angular_velocity.is_finite();
             let reason = if !finite {
                 "has a non-finite pose or velocity (NaN or infinity)".to_string()
-            } else if body.linear_velocity.length() > self.settings.max_linear_speed {
+            } else if !body.is_dynamic() {
+                continue;
+            } else if body.linear_velocity.length() > settings.max_linear_speed {
                 format!(
                     "exploded: speed {:.1} m/s exceeds the bound {} m/s",
                     body.linear_velocity.length(),
-                    self.settings.max_linear_speed
+                    settings.max_linear_speed
                 )
-            } else if body.angular_velocity.length() > self.settings.max_angular_speed {
+            } else if body.angular_velocity.length() > settings.max_angular_speed {
                 format!(
                     "exploded: angular speed {:.1} rad/s exceeds the bound {} rad/s",
                     body.angular_velocity.length(),
-                    self.settings.max_angular_speed
+                    settings.max_angular_speed
                 )
             } else {
                 continue;
@@ -205,6 +208,39 @@ impl World {
                 constraint: self.worst_constraint_on(BodyId(index as u32)),
                 reason,
             });
+        }
+        for constraint in &self.constraints {
+            let apart = constraint.dislocation(&self.bodies);
+            if apart > settings.max_separation {
+                let body = self.body(constraint.bodies().1);
+                return Err(SimulationError {
+                    frame: self.frame,
+                    body: body.name.clone(),
+                    constraint: Some(constraint.name().to_string()),
+                    reason: format!(
+                        "came apart: \"{}\" is {apart:.3} m apart, beyond the bound max_separation = {} m",
+                        constraint.name(),
+                        settings.max_separation
+                    ),
+                });
+            }
+        }
+        if settings.contacts {
+            for p in &self.contacts.points {
+                let (a, b) = (self.body(p.body_a), self.body(p.body_b));
+                let depth = -p.separation(a, b);
+                if depth > settings.max_penetration {
+                    return Err(SimulationError {
+                        frame: self.frame,
+                        body: b.name.clone(),
+                        constraint: self.worst_constraint_on(p.body_b),
+                        reason: format!(
+                            "was driven {depth:.3} m into \"{}\", beyond the bound max_penetration = {} m",
+                            a.name, settings.max_penetration
+                        ),
+                    });
+                }
+            }
         }
         Ok(())
     }

@@ -239,3 +239,44 @@ fn save_refuses_to_overwrite_the_scene_or_a_file_that_is_not_a_recording() {
     assert_eq!(std::fs::read_to_string(&notes).unwrap(), "keep me");
     assert!(run(&notes, true).status.success());
 }
+
+/// SIGTERM (and SIGINT, the same path) stops a run at the next frame: the summary is printed,
+/// the recording is finished (it decodes, with every frame up to the stop and the final state
+/// hash), and the exit code is 143.
+#[test]
+fn sigterm_stops_at_a_frame_prints_the_summary_and_finishes_the_recording() {
+    let path = temp_path("terminated.rrd");
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_rodlab"))
+        .args([
+            "run",
+            concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/ragdoll_drop.toml"),
+        ])
+        .args(["--spine", "rod", "--frames", "600000", "--save"])
+        .arg(&path)
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // let it record for a while
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let killed = std::process::Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let status = child.wait().unwrap();
+    let mut stdout = String::new();
+    std::io::Read::read_to_string(child.stdout.as_mut().unwrap(), &mut stdout).unwrap();
+    assert_eq!(status.code(), Some(143), "{stdout}");
+    let stopped = stdout
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("stopped by SIGTERM after "))
+        .unwrap_or_else(|| panic!("no stop line in {stdout}"));
+    let frames: i64 = stopped.split(' ').next().unwrap().parse().unwrap();
+    assert!(frames > 0 && frames < 600000, "{stopped}");
+    let chunks = decode(&path);
+    let recorded = frames_with(&chunks, "world/drop00/capsules", "translations");
+    assert_eq!(recorded, (0..=frames).collect::<BTreeSet<i64>>());
+    assert!(chunks
+        .iter()
+        .any(|c| c.is_static() && c.entity_path().to_string() == "/state_hash"));
+}

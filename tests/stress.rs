@@ -36,7 +36,8 @@ fn suite_case(name: &str) -> Case {
 
 /// A weight of 1000 forearm masses in the hand with one iteration at dt = 1/5 s: the arm
 /// cannot hold it, flings (peak speeds 51 to 95 m/s against a 7 m/s reference, measured) and
-/// comes apart. With 10 000 forearm masses at 60 Hz the world's own speed bound stops the run.
+/// comes apart (the world's separation bound may stop it first). With 10 000 forearm masses at
+/// 60 Hz the world's own speed or separation bound stops the run.
 /// A ragdoll hung by its head at rest, 60 Hz, 20 iterations, stays calm and is stable.
 #[test]
 fn verdicts_call_a_broken_configuration_exploded_and_a_calm_one_stable() {
@@ -47,17 +48,23 @@ fn verdicts_call_a_broken_configuration_exploded_and_a_calm_one_stable() {
         let o = run(&broken, method);
         let m = &o.measures;
         assert_eq!(o.verdict, Verdict::Exploded, "{method}: {m:?}");
+        // flung past 5x the reference speed, or stopped first by the world's separation bound
+        let came_apart = m.failed.as_deref().is_some_and(|f| f.contains("came apart"));
         assert!(
-            m.peak_speed > 5.0 * m.speed_reference,
-            "{method}: peak {} m/s against a reference of {} m/s",
+            came_apart || m.peak_speed > 5.0 * m.speed_reference,
+            "{method}: peak {} m/s against a reference of {} m/s, failure {:?}",
             m.peak_speed,
-            m.speed_reference
+            m.speed_reference,
+            m.failed
         );
 
         let o = run(&overloaded, method);
         assert_eq!(o.verdict, Verdict::Exploded, "{method}: {:?}", o.measures);
-        let failure = o.measures.failed.as_deref().expect("the speed bound trips");
-        assert!(failure.contains("exploded"), "{method}: {failure}");
+        let failure = (o.measures.failed.as_deref()).expect("the world's health check trips");
+        assert!(
+            failure.contains("exploded") || failure.contains("came apart"),
+            "{method}: {failure}"
+        );
         assert!(o.measures.frames_run < o.measures.frames);
 
         let o = run(&calm, method);

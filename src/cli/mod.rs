@@ -21,6 +21,7 @@ use crate::shard::Shard;
 use crate::sim::{self, Observer, Overrides, RunReport};
 use crate::world::{SimulationError, SolverKind};
 
+pub mod stop;
 pub mod tune;
 
 #[derive(Debug, Parser)]
@@ -301,6 +302,24 @@ pub fn main() -> anyhow::Result<()> {
 
 /// Runs the parsed command (inside the thread pool `--threads` asked for, if any).
 fn dispatch(cli: Cli, matches: &ArgMatches) -> anyhow::Result<()> {
+    if matches!(
+        cli.command,
+        None | Some(Command::Run { .. } | Command::All { .. })
+    ) {
+        stop::install()?;
+    }
+    dispatch_command(cli, matches)?;
+    if let Some(code) = stop::exit_code() {
+        eprintln!(
+            "stopped by {}: the recording is complete up to there",
+            stop::signal_name()
+        );
+        std::process::exit(code);
+    }
+    Ok(())
+}
+
+fn dispatch_command(cli: Cli, matches: &ArgMatches) -> anyhow::Result<()> {
     match cli.command {
         None => main_job(),
         Some(Command::Sweep(args)) => {
@@ -337,7 +356,8 @@ fn dispatch(cli: Cli, matches: &ArgMatches) -> anyhow::Result<()> {
                 check_output(out, &scene, force)?;
             }
             let scene = load_scene(&scene, variant.as_deref(), &(&overrides).into())?;
-            run_one(&scene, record_from, &rerun, rerun_sink_given(sub))
+            let save = sub.get_one::<PathBuf>("save").map(PathBuf::as_path);
+            run_one(&scene, record_from, &rerun, rerun_sink_given(sub), save)
         }
         Some(Command::Check { scenes }) => check(&scenes),
         Some(Command::Tune(args)) => tune::tune(&args),
@@ -349,6 +369,9 @@ fn dispatch(cli: Cli, matches: &ArgMatches) -> anyhow::Result<()> {
 fn main_job() -> anyhow::Result<()> {
     let (scenes, out) = (Path::new("scenes"), Path::new("recordings"));
     run_all(scenes, out, &Overrides::default())?;
+    if stop::requested() {
+        return Ok(());
+    }
     let path = scenes.join("passive_bending.toml");
     // the paper's one step a frame (the reference line) beside 4 substeps, on one cost axis
     let config = crate::sweep::SweepConfig {
@@ -728,6 +751,25 @@ fn rerun_sink_given(matches: &ArgMatches) -> bool {
         .any(|id| matches!(matches.value_source(id), Some(ValueSource::CommandLine)))
 }
 
+/// A run that failed because its recording could not be written names the file and, probed
+/// with a small write beside it, the OS error (a full disk: "No space left on device").
+fn explain_write_failure(out: Option<&Path>, e: anyhow::Error) -> anyhow::Error {
+    let Some(out) = out.filter(|_| format!("{e:#}").contains("could not be written")) else {
+        return e;
+    };
+    let dir = out
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let probe = dir.join(format!(".rodlab-write-probe-{}", std::process::id()));
+    let os_error = match std::fs::write(&probe, [0u8; 65536]) {
+        Ok(()) => "a probe write beside it succeeded".to_string(),
+        Err(io) => io.to_string(),
+    };
+    let _ = std::fs::remove_file(&probe);
+    e.context(format!("writing {}: {os_error}", out.display()))
+}
+
 /// Refuses to write a recording over the scene file being run, or (unless `force`) over an
 /// existing file that is not an `.rrd`.
 fn check_output(out: &Path, scene: &Path, force: bool) -> anyhow::Result<()> {
@@ -859,6 +901,10 @@ impl Observer for RowPrinter<'_> {
         self.inner.begin(lab, metrics)
     }
 
+    fn stop_requested(&self) -> bool {
+        stop::requested()
+    }
+
     fn frame(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()> {
         if self.every > 0 && lab.world.frame % self.every as u64 == 0 {
             for (ragdoll, r) in lab.ragdolls.iter().zip(&metrics.ragdolls) {
@@ -886,17 +932,29 @@ fn run_one(
     record_from: f32,
     rerun_args: &rerun::clap::RerunArgs,
     sink_given: bool,
+    save_path: Option<&Path>,
 ) -> anyhow::Result<()> {
     let name = scene.name();
-    let (rec, _serve_guard) = if sink_given {
-        rerun_args.init_with_blueprint(record::APPLICATION_ID, record::blueprint(scene))?
+    let (rec, _serve_guard, out) = if sink_given {
+        let (rec, guard) =
+            rerun_args.init_with_blueprint(record::APPLICATION_ID, record::blueprint(scene))?;
+        (rec, guard, save_path.map(Path::to_path_buf))
     } else {
         let out = Path::new("recordings").join(format!("{name}.rrd"));
         eprintln!("recording to {}", out.display());
-        (record::save_to(&out, scene)?, Default::default())
+        (record::save_to(&out, scene)?, Default::default(), Some(out))
     };
-    let report = record_scene_from(scene, rec, record_from)?;
+    let report = record_scene_from(scene, rec, record_from)
+        .map_err(|e| explain_write_failure(out.as_deref(), e))?;
     print_summary(&name, scene, &report);
+    if stop::requested() {
+        println!(
+            "  stopped by {} after {} of {} frames",
+            stop::signal_name(),
+            report.frames,
+            scene.def.frames
+        );
+    }
     Ok(())
 }
 
@@ -914,6 +972,9 @@ fn run_all(scenes_dir: &Path, out_dir: &Path, overrides: &Overrides) -> anyhow::
     );
     let mut failures = Vec::new();
     for path in &paths {
+        if stop::requested() {
+            break;
+        }
         let result = load_scene(path, None, overrides).and_then(|mut scene| {
             // heavy scenes give the main job a shorter run (`ci_frames`), unless --frames
             if let (None, Some(n)) = (overrides.frames, scene.def.ci_frames) {
@@ -926,10 +987,14 @@ fn run_all(scenes_dir: &Path, out_dir: &Path, overrides: &Overrides) -> anyhow::
             }
             let mut reports = Vec::new();
             for variant in variants(&scene, overrides)? {
+                if stop::requested() {
+                    break;
+                }
                 let name = variant.name();
                 let out = out_dir.join(format!("{name}.rrd"));
                 let started = std::time::Instant::now();
-                let report = record_scene(&variant, record::save_to(&out, &variant)?)?;
+                let report = record_scene(&variant, record::save_to(&out, &variant)?)
+                    .map_err(|e| explain_write_failure(Some(&out), e))?;
                 print_summary(&name, &variant, &report);
                 println!(
                     "  -> {} ({:.1} s)",

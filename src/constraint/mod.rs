@@ -85,4 +85,18 @@ impl Constraint {
             Constraint::Rod(rod) => rod.violation(a, b),
         }
     }
+
+    /// The dislocation alone (m), cheaper than [`Constraint::violation`]: the anchors' gap of
+    /// a joint, a rod's length error (eq. 9).
+    pub fn dislocation(&self, bodies: &[Body]) -> f32 {
+        let (ia, ib) = self.bodies();
+        let (a, b) = (&bodies[ia.index()], &bodies[ib.index()]);
+        match self {
+            Constraint::BallSocket(joint) => {
+                let (pa, pb) = joint.world_anchors(a, b);
+                (pb - pa).length()
+            }
+            Constraint::Rod(rod) => rod.state(a, b).length_error.abs(),
+        }
+    }
 }

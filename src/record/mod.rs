@@ -45,8 +45,22 @@ pub mod tune;
 /// Application id of every rodlab recording.
 pub const APPLICATION_ID: &str = "rodlab";
 
-/// Flush the file sink this often, so a run cut short leaves a readable recording.
-const FLUSH_EVERY_FRAMES: u64 = 30;
+/// Flush the sink once this much wall time or simulated time (s) has passed since the last
+/// flush, whichever comes first, so a killed run loses at most that much of either.
+const FLUSH_EVERY_S: f64 = 1.0;
+/// A flush that takes longer than this (s) fails the run instead of hanging it: the file
+/// writer has died or stalled (a full disk, a vanished file system).
+const FLUSH_TIMEOUT_S: u64 = 10;
+
+/// Flushes `rec`, at most [`FLUSH_TIMEOUT_S`] long.
+fn flush(rec: &RecordingStream) -> anyhow::Result<()> {
+    rec.flush_with_timeout(std::time::Duration::from_secs(FLUSH_TIMEOUT_S))
+        .map_err(|e| {
+            anyhow::anyhow!(
+                "the recording could not be written ({e}); is the disk full, or the file gone?"
+            )
+        })
+}
 
 /// The layout for a scene: the 3D view beside its plots (residuals, then tabs for energy, pose
 /// deviation, rod scalars and bone errors; for the kinematics scene, the end gaps).
@@ -345,6 +359,8 @@ pub struct Recorder {
     arrows: Vec<[f32; 3]>,
     arrow_origins: Vec<[f32; 3]>,
     arrow_colors: Vec<rerun::Color>,
+    /// When the sink was last flushed: wall clock and simulated time (s).
+    flushed_at: (std::time::Instant, f64),
 }
 
 /// Points sampled along each rod's centerline.
@@ -421,6 +437,7 @@ impl Recorder {
             arrows: Vec::new(),
             arrow_origins: Vec::new(),
             arrow_colors: Vec::new(),
+            flushed_at: (std::time::Instant::now(), 0.0),
         };
         recorder.log_static(lab, scene)?;
         Ok(recorder)
@@ -436,8 +453,7 @@ impl Recorder {
             "state_hash",
             &rerun::TextDocument::new(format!("{:016x}", report.state_hash)),
         )?;
-        self.rec.flush_blocking()?;
-        Ok(())
+        flush(&self.rec)
     }
 
     fn log_static(&mut self, lab: &Lab, scene: &Scene) -> anyhow::Result<()> {
@@ -578,8 +594,11 @@ impl Recorder {
                 &rerun::Scalars::single(world.awake_bodies as f64),
             )?;
         }
-        if world.frame % FLUSH_EVERY_FRAMES == 0 {
-            self.rec.flush_blocking()?;
+        let (wall, simulated) = self.flushed_at;
+        if wall.elapsed().as_secs_f64() >= FLUSH_EVERY_S || world.time - simulated >= FLUSH_EVERY_S
+        {
+            flush(&self.rec)?;
+            self.flushed_at = (std::time::Instant::now(), world.time);
         }
         Ok(())
     }
@@ -732,13 +751,13 @@ impl Observer for Recorder {
         let _ = self
             .rec
             .log("failure", &rerun::TextDocument::from_markdown(text));
-        let _ = self.rec.flush_blocking();
+        let _ = flush(&self.rec);
     }
 }
 
 impl Drop for Recorder {
     fn drop(&mut self) {
-        let _ = self.rec.flush_blocking();
+        let _ = flush(&self.rec);
     }
 }
 

@@ -64,6 +64,12 @@ pub struct SceneDef {
     pub max_speed: f32,
     #[serde(default = "default_max_angular_speed")]
     pub max_angular_speed: f32,
+    /// A joint or rod apart by more than this (m) after a frame stops the run.
+    #[serde(default = "default_max_separation")]
+    pub max_separation: f32,
+    /// A contact deeper than this (m) after a frame stops the run.
+    #[serde(default = "default_max_penetration")]
+    pub max_penetration: f32,
     #[serde(default)]
     pub record: RecordDef,
     #[serde(default)]
@@ -437,6 +443,12 @@ fn default_max_speed() -> f32 {
 }
 fn default_max_angular_speed() -> f32 {
     DEFAULT_MAX_ANGULAR_SPEED
+}
+fn default_max_separation() -> f32 {
+    crate::solver::DEFAULT_MAX_SEPARATION
+}
+fn default_max_penetration() -> f32 {
+    crate::solver::DEFAULT_MAX_PENETRATION
 }
 fn yes() -> bool {
     true
@@ -984,6 +996,8 @@ impl Scene {
             solver: d.solver,
             max_linear_speed: d.max_speed,
             max_angular_speed: d.max_angular_speed,
+            max_separation: d.max_separation,
+            max_penetration: d.max_penetration,
             contacts: d.contacts,
             contact_margin: d.contact_margin,
             contact_push_speed: d.contact_push_speed,
@@ -1128,6 +1142,17 @@ fn check_settings(d: &SceneDef, prefix: &[Seg]) -> Result<(), (Vec<Seg>, String)
             key("joint_damping"),
             format!("must be 0 or more (N m s/rad), got {}", d.joint_damping),
         ));
+    }
+    for (name, value) in [
+        ("max_separation", d.max_separation),
+        ("max_penetration", d.max_penetration),
+    ] {
+        if !(value > 0.0) {
+            return Err((
+                key(name),
+                format!("must be a positive distance in m (or inf), got {value}"),
+            ));
+        }
     }
     if !(d.max_angular_speed > 0.0) {
         return Err((key("max_angular_speed"), "must be positive".into()));

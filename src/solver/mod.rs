@@ -42,8 +42,10 @@
 //!       ([`RodRow::damp_velocities`]);
 //!    6. the contacts' velocity pass: each contact that pushed in this substep leaves with zero
 //!       relative normal velocity, or bounces (restitution);
-//! 4. the caller checks every body for NaN and for speeds above the explosion bounds, then
-//!    measures residuals on the final poses (paper Fig. 8), once per frame;
+//! 4. the world checks its health ([`crate::world::World::check_health`]): NaN or infinity in
+//!    any body, a dynamic body faster than the speed bounds, a joint or rod apart by more than
+//!    `max_separation`, a contact deeper than `max_penetration`; the caller then measures
+//!    residuals on the final poses (paper Fig. 8), once per frame;
 //! 5. with sleeping on, the world's sleep pass ([`crate::sleep`]) wakes the islands something
 //!    awake reached and puts still ones to sleep. A sleeping body is immovable here: not
 //!    integrated, no rows with other immovable bodies, inverse mass zero in the hot array.
@@ -118,6 +120,11 @@ pub struct Settings {
     pub max_linear_speed: f32,
     /// A dynamic body spinning faster than this (rad/s) counts as exploded.
     pub max_angular_speed: f32,
+    /// A joint or rod whose hard constraints are further apart than this (m) after a frame
+    /// counts as broken apart.
+    pub max_separation: f32,
+    /// A contact deeper than this (m) after a frame counts as a body driven through another.
+    pub max_penetration: f32,
     /// Whether bodies collide. Off, the step does no collision work at all.
     pub contacts: bool,
     /// Contact points are made this far (m) before the surfaces touch.
@@ -155,6 +162,8 @@ impl Default for Settings {
             solver: SolverKind::Scalar,
             max_linear_speed: DEFAULT_MAX_LINEAR_SPEED,
             max_angular_speed: DEFAULT_MAX_ANGULAR_SPEED,
+            max_separation: DEFAULT_MAX_SEPARATION,
+            max_penetration: DEFAULT_MAX_PENETRATION,
             contacts: false,
             contact_margin: 0.02,
             contact_push_speed: DEFAULT_CONTACT_PUSH_SPEED,
@@ -180,6 +189,14 @@ pub const DEFAULT_CONTACT_PUSH_SPEED: f32 = f32::INFINITY;
 pub const DEFAULT_MAX_LINEAR_SPEED: f32 = 250.0;
 /// Default explosion bound on angular speed (rad/s), about 80 turns per second.
 pub const DEFAULT_MAX_ANGULAR_SPEED: f32 = 500.0;
+
+/// Default bound on a joint's or rod's dislocation after a frame (m): half a metre is no
+/// residual error any more but a ragdoll come apart (`--dt 1` left a joint 1 km apart).
+pub const DEFAULT_MAX_SEPARATION: f32 = 0.5;
+
+/// Default bound on a contact's depth after a frame (m): deeper than any body here is thick
+/// (`--dt 1 --iterations 1` drove bodies 39 m into the floor).
+pub const DEFAULT_MAX_PENETRATION: f32 = 0.5;
 
 /// The solver's per-step storage, reused from frame to frame: hot bodies and rows per kind.
 #[derive(Clone, Debug, Default)]

@@ -21,13 +21,15 @@ pub struct Profile {
     pub commit: f64,
     /// 3.5 the contacts' velocity pass.
     pub velocity_pass: f64,
+    /// 4. the health check: NaN, speeds, separations, penetrations.
+    pub health: f64,
     /// 5. the sleep pass.
     pub sleep: f64,
 }
 
 impl Profile {
     /// The phases as (name, seconds), in step order.
-    pub fn phases(&self) -> [(&'static str, f64); 9] {
+    pub fn phases(&self) -> [(&'static str, f64); 10] {
         [
             ("detect", self.detect),
             ("prepare", self.prepare),
@@ -37,6 +39,7 @@ impl Profile {
             ("contacts", self.contacts),
             ("commit", self.commit),
             ("velocity pass", self.velocity_pass),
+            ("health", self.health),
             ("sleep", self.sleep),
         ]
     }
@@ -55,6 +58,7 @@ impl Profile {
         self.contacts += other.contacts;
         self.commit += other.commit;
         self.velocity_pass += other.velocity_pass;
+        self.health += other.health;
         self.sleep += other.sleep;
     }
 }
