@@ -49,7 +49,10 @@ fn verdicts_call_a_broken_configuration_exploded_and_a_calm_one_stable() {
         let m = &o.measures;
         assert_eq!(o.verdict, Verdict::Exploded, "{method}: {m:?}");
         // flung past 5x the reference speed, or stopped first by the world's separation bound
-        let came_apart = m.failed.as_deref().is_some_and(|f| f.contains("came apart"));
+        let came_apart = m
+            .failed
+            .as_deref()
+            .is_some_and(|f| f.contains("came apart"));
         assert!(
             came_apart || m.peak_speed > 5.0 * m.speed_reference,
             "{method}: peak {} m/s against a reference of {} m/s, failure {:?}",

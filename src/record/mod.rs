@@ -40,7 +40,10 @@ use crate::sim::Observer;
 use crate::skeleton::BoneMethod;
 use crate::world::{SimulationError, World};
 
+mod columns;
 pub mod tune;
+
+use columns::ScalarColumns;
 
 /// Application id of every rodlab recording.
 pub const APPLICATION_ID: &str = "rodlab";
@@ -361,6 +364,8 @@ pub struct Recorder {
     arrow_colors: Vec<rerun::Color>,
     /// When the sink was last flushed: wall clock and simulated time (s).
     flushed_at: (std::time::Instant, f64),
+    /// Every scalar series, sent as columns at each flush.
+    scalars: ScalarColumns,
 }
 
 /// Points sampled along each rod's centerline.
@@ -438,6 +443,7 @@ impl Recorder {
             arrow_origins: Vec::new(),
             arrow_colors: Vec::new(),
             flushed_at: (std::time::Instant::now(), 0.0),
+            scalars: ScalarColumns::default(),
         };
         recorder.log_static(lab, scene)?;
         Ok(recorder)
@@ -448,11 +454,12 @@ impl Recorder {
     }
 
     /// After a whole run: its final state hash (`state_hash`, static text), then a flush.
-    pub fn finish(&self, report: &crate::sim::RunReport) -> anyhow::Result<()> {
+    pub fn finish(&mut self, report: &crate::sim::RunReport) -> anyhow::Result<()> {
         self.rec.log_static(
             "state_hash",
             &rerun::TextDocument::new(format!("{:016x}", report.state_hash)),
         )?;
+        self.scalars.send(&self.rec)?;
         flush(&self.rec)
     }
 
@@ -523,6 +530,7 @@ impl Recorder {
         let rec = &self.rec;
         rec.set_time_sequence("frame", world.frame as i64);
         rec.set_duration_secs("sim_time", world.time);
+        self.scalars.at(world.frame as i64, world.time);
         if self.options.bodies {
             for batch in &mut self.batches {
                 let colors = sleep_colors(batch, world);
@@ -552,18 +560,12 @@ impl Recorder {
             for ((dislocation, angular, deviation), residual) in
                 self.metric_paths.iter().zip(&metrics.ragdolls)
             {
-                rec.log(
-                    deviation.as_str(),
-                    &rerun::Scalars::single(residual.pose_deviation_cm as f64),
-                )?;
-                rec.log(
-                    dislocation.as_str(),
-                    &rerun::Scalars::single(residual.dislocation_cm as f64),
-                )?;
-                rec.log(
-                    angular.as_str(),
-                    &rerun::Scalars::single(residual.angular_rad as f64),
-                )?;
+                self.scalars
+                    .push(deviation.as_str(), residual.pose_deviation_cm as f64);
+                self.scalars
+                    .push(dislocation.as_str(), residual.dislocation_cm as f64);
+                self.scalars
+                    .push(angular.as_str(), residual.angular_rad as f64);
             }
         }
         if self.options.rods {
@@ -574,29 +576,21 @@ impl Recorder {
             self.log_bones(lab, metrics)?;
         }
         if self.options.energy {
-            let rec = &self.rec;
-            rec.log(
-                "metrics/energy/kinetic",
-                &rerun::Scalars::single(metrics.kinetic_energy as f64),
-            )?;
-            rec.log(
-                "metrics/energy/potential",
-                &rerun::Scalars::single(metrics.potential_energy as f64),
-            )?;
-            rec.log(
-                "metrics/energy/total",
-                &rerun::Scalars::single(metrics.total_energy() as f64),
-            )?;
+            self.scalars
+                .push("metrics/energy/kinetic", metrics.kinetic_energy as f64);
+            self.scalars
+                .push("metrics/energy/potential", metrics.potential_energy as f64);
+            self.scalars
+                .push("metrics/energy/total", metrics.total_energy() as f64);
         }
         if world.settings.sleep {
-            self.rec.log(
-                "metrics/awake_bodies",
-                &rerun::Scalars::single(world.awake_bodies as f64),
-            )?;
+            self.scalars
+                .push("metrics/awake_bodies", world.awake_bodies as f64);
         }
         let (wall, simulated) = self.flushed_at;
         if wall.elapsed().as_secs_f64() >= FLUSH_EVERY_S || world.time - simulated >= FLUSH_EVERY_S
         {
+            self.scalars.send(&self.rec)?;
             flush(&self.rec)?;
             self.flushed_at = (std::time::Instant::now(), world.time);
         }
@@ -650,10 +644,7 @@ impl Recorder {
                 ("length_violation_cm", 100.0 * state.length_error),
                 ("curve_violation_rad", state.curve_error),
             ] {
-                self.rec.log(
-                    format!("{metric}/{name}"),
-                    &rerun::Scalars::single(value as f64),
-                )?;
+                self.scalars.push(&format!("{metric}/{name}"), value as f64);
             }
         }
         Ok(())
@@ -664,21 +655,15 @@ impl Recorder {
     fn log_contacts(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()> {
         let world = &lab.world;
         if world.settings.contacts {
-            self.rec.log(
-                "metrics/penetration_cm",
-                &rerun::Scalars::single(metrics.max_penetration_cm as f64),
-            )?;
+            self.scalars
+                .push("metrics/penetration_cm", metrics.max_penetration_cm as f64);
         }
         if lab.ragdolls.len() > 2 {
             let (dislocation, angular) = metrics.totals();
-            self.rec.log(
-                "metrics/total/dislocation_cm",
-                &rerun::Scalars::single(dislocation as f64),
-            )?;
-            self.rec.log(
-                "metrics/total/angular_rad",
-                &rerun::Scalars::single(angular as f64),
-            )?;
+            self.scalars
+                .push("metrics/total/dislocation_cm", dislocation as f64);
+            self.scalars
+                .push("metrics/total/angular_rad", angular as f64);
         }
         if !self.options.contacts {
             return Ok(());
@@ -714,14 +699,10 @@ impl Recorder {
                     .with_colors([bone_color(method)]),
             )?;
             let metric = format!("metrics/bones/{}/{}", ragdoll.name, method.name());
-            self.rec.log(
-                format!("{metric}/length_error_cm"),
-                &rerun::Scalars::single(error.length_cm as f64),
-            )?;
-            self.rec.log(
-                format!("{metric}/chest_gap_cm"),
-                &rerun::Scalars::single(error.chest_gap_cm as f64),
-            )?;
+            self.scalars
+                .push(&format!("{metric}/length_error_cm"), error.length_cm as f64);
+            self.scalars
+                .push(&format!("{metric}/chest_gap_cm"), error.chest_gap_cm as f64);
         }
         Ok(())
     }
@@ -751,12 +732,14 @@ impl Observer for Recorder {
         let _ = self
             .rec
             .log("failure", &rerun::TextDocument::from_markdown(text));
+        let _ = self.scalars.send(&self.rec);
         let _ = flush(&self.rec);
     }
 }
 
 impl Drop for Recorder {
     fn drop(&mut self) {
+        let _ = self.scalars.send(&self.rec);
         let _ = flush(&self.rec);
     }
 }
