@@ -280,3 +280,49 @@ fn sigterm_stops_at_a_frame_prints_the_summary_and_finishes_the_recording() {
         .iter()
         .any(|c| c.is_static() && c.entity_path().to_string() == "/state_hash"));
 }
+
+/// `[record] every = N` (`--record-every N`) records frames 0, N, 2N, ... only: poses and
+/// scalars alike, in a smaller file; the run itself still steps every frame.
+#[test]
+fn record_every_keeps_every_nth_frame() {
+    let load = |every: u32| {
+        let mut scene = Scene::load(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/scenes/passive_bending.toml"
+        ))
+        .unwrap();
+        Overrides {
+            frames: Some(40),
+            record_every: Some(every),
+            ..Default::default()
+        }
+        .apply(&mut scene.def);
+        scene
+    };
+    let (all, sparse) = (temp_path("every1.rrd"), temp_path("every3.rrd"));
+    for (path, every) in [(&all, 1), (&sparse, 3)] {
+        let scene = load(every);
+        let report = record_scene(&scene, record::save_to(path, &scene).unwrap()).unwrap();
+        assert_eq!(report.frames, 40);
+    }
+    let chunks = decode(&sparse);
+    let expected: BTreeSet<i64> = (0..=40).filter(|f| f % 3 == 0).collect();
+    for (entity, component) in [
+        ("world/rod/capsules", "translations"),
+        ("metrics/dislocation_cm/rod", "scalars"),
+        ("metrics/rod/rod/spine_rod/psi", "scalars"),
+    ] {
+        assert_eq!(
+            frames_with(&chunks, entity, component),
+            expected,
+            "{entity}"
+        );
+    }
+    let size = |p: &std::path::Path| std::fs::metadata(p).unwrap().len();
+    assert!(
+        size(&sparse) < size(&all),
+        "{} vs {}",
+        size(&sparse),
+        size(&all)
+    );
+}

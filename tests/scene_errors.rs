@@ -764,3 +764,16 @@ fn a_file_that_is_not_utf8_names_the_line_of_its_bad_byte() {
         "{e}"
     );
 }
+
+#[test]
+fn record_every_zero_names_its_field() {
+    let text = format!("{GOOD}\n[record]\nevery = 0\n");
+    let e = Scene::parse("scenes/x.toml", &text)
+        .unwrap_err()
+        .to_string();
+    let line = text.lines().position(|l| l.starts_with("every")).unwrap() + 1;
+    assert!(
+        e.starts_with(&format!("scenes/x.toml:{line}: record.every: ")),
+        "{e}"
+    );
+}

@@ -206,6 +206,9 @@ pub struct OverrideArgs {
     /// Rod twist measure: exact or paper.
     #[arg(long, value_parser = parse_choice::<TwistMode>)]
     pub twist: Option<TwistMode>,
+    /// Record every N-th frame (frames 0, N, 2N, ...): a smaller file of a long run.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    pub record_every: Option<u32>,
 }
 
 /// Parses a choice the way scene files spell it (the enum's serde names).
@@ -278,6 +281,7 @@ impl From<&OverrideArgs> for Overrides {
             twist_stiffness: a.twist_stiffness,
             twist_damping: a.twist_damping,
             twist: a.twist,
+            record_every: a.record_every,
         }
     }
 }

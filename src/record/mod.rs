@@ -527,6 +527,9 @@ impl Recorder {
 
     fn log_frame(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()> {
         let world = &lab.world;
+        if world.frame % self.options.every.max(1) as u64 != 0 {
+            return Ok(()); // `[record] every = N`: frames 0, N, 2N, ...
+        }
         let rec = &self.rec;
         rec.set_time_sequence("frame", world.frame as i64);
         rec.set_duration_secs("sim_time", world.time);

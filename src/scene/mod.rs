@@ -479,11 +479,19 @@ pub struct RecordDef {
     /// Animation bones and their errors, per ragdoll and mapping method.
     #[serde(default = "yes")]
     pub bones: bool,
+    /// Record every N-th frame (frames 0, N, 2N, ...); 1 records them all.
+    #[serde(default = "one")]
+    pub every: u32,
+}
+
+fn one() -> u32 {
+    1
 }
 
 impl Default for RecordDef {
     fn default() -> Self {
         RecordDef {
+            every: 1,
             bodies: true,
             joints: true,
             residuals: true,
@@ -817,6 +825,12 @@ impl Scene {
             vec![Seg::Key(list.into()), Seg::Index(i), Seg::Key(field.into())]
         };
         check_settings(d, &[])?;
+        if !(1..=bounds::MAX_FRAMES).contains(&d.record.every) {
+            return Err((
+                vec![Seg::Key("record".into()), Seg::Key("every".into())],
+                format!("must be at least 1 (every frame), got {}", d.record.every),
+            ));
+        }
         if let Some(name) = &d.name {
             bounds::check_scene_name(name).map_err(|m| (vec![Seg::Key("name".into())], m))?;
         }

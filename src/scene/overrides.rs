@@ -31,6 +31,8 @@ pub struct Overrides {
     pub twist_stiffness: Option<f32>,
     pub twist_damping: Option<f32>,
     pub twist: Option<TwistMode>,
+    /// Record every N-th frame.
+    pub record_every: Option<u32>,
 }
 
 impl Overrides {
@@ -67,6 +69,9 @@ impl Overrides {
         }
         if let Some(v) = self.frames {
             def.frames = v;
+        }
+        if let Some(v) = self.record_every {
+            def.record.every = v;
         }
         if let Some(spine) = self.spine {
             def.ragdoll.iter_mut().for_each(|r| r.spine = spine);
