@@ -6,7 +6,7 @@ mod common;
 
 use std::collections::BTreeSet;
 
-use common::{decode, frames_with, temp_path};
+use common::{decode, frames_with, static_texts, temp_path};
 use rodlab::cli::record_scene;
 use rodlab::record;
 use rodlab::scene::Scene;
@@ -188,19 +188,7 @@ fn three_runs_give_one_state_hash_and_the_recording_keeps_it() {
     let path = temp_path("drop_hash.rrd");
     let report = record_scene(&scene, record::save_to(&path, &scene).unwrap()).unwrap();
     assert_eq!(report.state_hash, hashes[0]);
-    let stored: Vec<String> = decode(&path)
-        .iter()
-        .filter(|c| c.is_static() && c.entity_path().to_string() == "/state_hash")
-        .flat_map(|c| {
-            let d = (c.component_descriptors())
-                .find(|d| d.component.as_str().ends_with("text"))
-                .unwrap();
-            c.iter_slices::<String>(d.component)
-                .flatten()
-                .map(|s| s.to_string())
-                .collect::<Vec<_>>()
-        })
-        .collect();
+    let stored = static_texts(&decode(&path), "state_hash", "text");
     assert_eq!(stored, vec![format!("{:016x}", hashes[0])]);
 }
 

@@ -7,7 +7,7 @@ mod common;
 
 use std::collections::BTreeSet;
 
-use common::{decode, frames_with, temp_path};
+use common::{decode, frames_with, static_texts, temp_path};
 use rodlab::cli::tune::run_grid;
 use rodlab::scene::Scene;
 use rodlab::tune::{self, MatchBy, Shard, Softness, TuneConfig};
@@ -44,20 +44,7 @@ fn every_copy_of_the_grid_is_labelled_and_has_its_series_in_the_recording() {
     for copy in tune::copies(&config, scene.def.iterations) {
         let entity = copy.entity();
         // the label, static, with the copy's settings
-        let labels: Vec<String> = (chunks.iter())
-            .filter(|c| {
-                c.is_static() && c.entity_path().to_string() == format!("/tune/grid/{entity}/label")
-            })
-            .flat_map(|c| {
-                let d = (c.component_descriptors())
-                    .find(|d| d.component.as_str().ends_with("labels"))
-                    .expect("the label point has labels");
-                c.iter_slices::<String>(d.component)
-                    .flatten()
-                    .map(|s| s.to_string())
-                    .collect::<Vec<_>>()
-            })
-            .collect();
+        let labels = static_texts(&chunks, &format!("tune/grid/{entity}/label"), "labels");
         assert_eq!(labels, vec![copy.label()], "{entity}");
         for quantity in ["psi", "tau", "energy"] {
             let path = format!("tune/{quantity}/{entity}");

@@ -331,28 +331,23 @@ impl RodRow {
     pub fn solve(&mut self, a: &mut SolverBody, b: &mut SolverBody) {
         let (fa, fb) = (a.orientation * self.frame_a, b.orientation * self.frame_b);
         let (ta, tb) = (fa * Vec3::X, fb * Vec3::X);
-        if let Some(part) = &mut self.bend_compliant {
-            // Compliant bend: the torque k psi about t_a x t_b.
+        if self.bend_compliant.is_some() || self.alpha_bend > 0.0 {
             let psi = angle_between(ta, tb);
             if psi > 1e-7 {
                 let axis = ta
                     .cross(tb)
                     .try_normalize()
                     .unwrap_or_else(|| any_perpendicular(ta));
-                let w = a.angular_inverse_mass(axis) + b.angular_inverse_mass(axis);
-                let impulse = part.impulse(psi, w) * axis;
-                a.apply_angular_impulse(-impulse);
-                b.apply_angular_impulse(impulse);
-            }
-        } else if self.alpha_bend > 0.0 {
-            // Soft bend (eq. 11): remove alpha_b of psi about t_a x t_b.
-            let psi = angle_between(ta, tb);
-            if psi > 1e-7 {
-                let axis = ta
-                    .cross(tb)
-                    .try_normalize()
-                    .unwrap_or_else(|| any_perpendicular(ta));
-                relative_rotation(a, b, -self.alpha_bend * psi * axis);
+                if let Some(part) = &mut self.bend_compliant {
+                    // Compliant bend: the torque k psi about t_a x t_b.
+                    let w = a.angular_inverse_mass(axis) + b.angular_inverse_mass(axis);
+                    let impulse = part.impulse(psi, w) * axis;
+                    a.apply_angular_impulse(-impulse);
+                    b.apply_angular_impulse(impulse);
+                } else {
+                    // Soft bend (eq. 11): remove alpha_b of psi about t_a x t_b.
+                    relative_rotation(a, b, -self.alpha_bend * psi * axis);
+                }
             }
         }
         if let Some(part) = &mut self.twist_compliant {

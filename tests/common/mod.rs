@@ -48,3 +48,20 @@ pub fn frames_with(chunks: &[Chunk], entity: &str, component: &str) -> BTreeSet<
     }
     frames
 }
+
+/// The texts of the static component (its name ending with `component`, e.g. "labels" or
+/// "text") of `entity`.
+pub fn static_texts(chunks: &[Chunk], entity: &str, component: &str) -> Vec<String> {
+    (chunks.iter())
+        .filter(|c| c.is_static() && c.entity_path().to_string() == format!("/{entity}"))
+        .flat_map(|c| {
+            let d = (c.component_descriptors())
+                .find(|d| d.component.as_str().ends_with(component))
+                .expect("the static chunk has the component");
+            c.iter_slices::<String>(d.component)
+                .flatten()
+                .map(|s| s.to_string())
+                .collect::<Vec<_>>()
+        })
+        .collect()
+}
