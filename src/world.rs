@@ -136,6 +136,14 @@ impl World {
     }
 
     fn step_here(&mut self) -> Result<(), SimulationError> {
+        let step_started = std::time::Instant::now();
+        let stepped = self.step_phases();
+        self.solver.profile.step = step_started.elapsed().as_secs_f64();
+        stepped
+    }
+
+    /// Steps 1-5 of the solver's list, each phase timed into `solver.profile`.
+    fn step_phases(&mut self) -> Result<(), SimulationError> {
         self.solver.step(
             &self.settings,
             &mut self.bodies,

@@ -153,13 +153,15 @@ fn thirty_ragdolls_land_and_settle_and_the_rod_spine_leaves_less_residual() {
 }
 
 /// The step profile accounts for the step: every phase the drop runs takes time, and the
-/// phases add up to the stepping time `sim::run` measures around `World::step` (all of it but
-/// the health check and the timers themselves).
+/// phases add up to the step's own wall time, timed where the step runs (`Profile::step`).
+/// The caller's time around `World::step` is not the yardstick: it adds the hand-over onto
+/// rayon's pool, whose wake-up latency on a loaded 2-core machine ranged up to a quarter of a
+/// 2 ms step (CI measured 76% of it in phases), and that says nothing about the profile.
 #[test]
 fn the_step_profile_accounts_for_the_step() {
     let _alone = one_at_a_time();
     let mut lab = Scene::load(SCENE).unwrap().build().unwrap();
-    // one untimed frame first: the first step starts rayon's threads, outside every phase
+    // one untimed frame first: the first step starts rayon's threads
     sim::run(&mut lab, 1, &mut sim::NoObserver).unwrap();
     let report = sim::run(&mut lab, 20, &mut sim::NoObserver).unwrap();
     let p = report.profile;
@@ -167,15 +169,16 @@ fn the_step_profile_accounts_for_the_step() {
         let runs = name != "rods" && name != "sleep"; // chain3 spines: no rods; sleep is off
         assert!(!runs || seconds > 0.0, "{name}: {seconds} s");
     }
-    let (total, stepping) = (p.total(), report.step_seconds);
-    println!("profile {total:.6} s of {stepping:.6} s stepping");
+    let (total, step, outside) = (p.total(), p.step, report.step_seconds);
+    println!("profile {total:.6} s of {step:.6} s stepping ({outside:.6} s around the calls)");
+    assert!(total <= step, "phases {total} s exceed the step's {step} s");
     assert!(
-        total <= stepping,
-        "phases {total} s exceed the step's {stepping} s"
+        step <= outside,
+        "the step's {step} s exceed the {outside} s around it"
     );
     assert!(
-        total > 0.9 * stepping,
-        "phases {total} s of the step's {stepping} s"
+        total > 0.95 * step,
+        "phases {total} s of the step's {step} s: a part of the step is in no phase"
     );
 }
 

@@ -25,6 +25,10 @@ pub struct Profile {
     pub health: f64,
     /// 5. the sleep pass.
     pub sleep: f64,
+    /// The whole step, timed where it runs (on a pool worker with several threads): the
+    /// phases plus the moments between them. Not a phase; the caller's own timing adds the
+    /// hand-over onto the pool, which no phase covers.
+    pub step: f64,
 }
 
 impl Profile {
@@ -60,6 +64,7 @@ impl Profile {
         self.velocity_pass += other.velocity_pass;
         self.health += other.health;
         self.sleep += other.sleep;
+        self.step += other.step;
     }
 }
 
