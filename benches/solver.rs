@@ -12,7 +12,7 @@ use rodlab::constraint::ball_socket_lanes::JointLanes;
 use rodlab::constraint::rod_lanes::RodLanes;
 use rodlab::constraint::{AngularLimit, BallSocket, JointFlavour, JointRow, Rod, RodRow};
 use rodlab::contact::lanes::ContactLanes;
-use rodlab::contact::{ContactPoint, Contacts, Softness};
+use rodlab::contact::{ContactPoint, Contacts, Softness, Stacking};
 use rodlab::lanes::Lane;
 use rodlab::math::{Quat, Vec3};
 use rodlab::ragdoll::SpineKind;
@@ -126,7 +126,8 @@ fn pressed_contacts() -> (Vec<SolverBody>, Vec<ContactPoint>) {
     }
     let mut contacts = Contacts::default();
     contacts.detect(&bodies, &[], 1.0 / 60.0, 0.02);
-    contacts.begin_substep(&bodies, 1.0 / 60.0, f32::INFINITY, Softness::default());
+    let (soft, stacking) = (Softness::default(), Stacking::default());
+    contacts.begin_substep(&bodies, 1.0 / 60.0, f32::INFINITY, soft, stacking);
     let mut points = contacts.points.clone();
     assert_eq!(points.len(), COUNT, "one point per crossing pair");
     let mut solver: Vec<SolverBody> = bodies.iter().map(SolverBody::from_body).collect();

@@ -1,15 +1,15 @@
 //! `rodlab sweep SCENE`: speed against accuracy.
 //!
 //! The scene is run headless once per combination of spine, joint flavour, row solver,
-//! substeps per frame, contact warm start and softness, time step and iteration count. Each run measures
+//! substeps per frame, contact warm start, softness and stacking, time step and iteration count. Each run measures
 //! - the cost: the median wall time of `World::step` over the frames after a warm-up, pooled
 //!   over `repeats` runs (the residuals are deterministic, only the time varies);
 //! - the accuracy: the residual after each frame (paper Fig. 8) per ragdoll, as the mean and the
 //!   maximum over frames and ragdolls of the dislocation (cm) and the angular violation (rad).
 //!
 //! A method is a spine and a joint flavour (`rod/exact`), with the row solver when not scalar,
-//! the substeps when more than one, and the contacts' warm start and softness when on
-//! (`rod/exact simd x4 warm0.25 soft30Hz`); its line on the chart runs through
+//! the substeps when more than one, and the contacts' warm start, softness and stacking when on
+//! (`rod/exact simd x4 warm0.25 soft30Hz stack10`); its line on the chart runs through
 //! its iteration counts, so the speed/accuracy frontier is the lower-left envelope of the lines,
 //! and lines of one method at several substeps show whether iterations or substeps buy more
 //! accuracy per microsecond.
@@ -19,13 +19,14 @@
 //!
 //! | column | meaning |
 //! |---|---|
-//! | `method` | `<spine>/<joint>[ simd][ x<substeps>][ warm<w>][ soft<f>Hz]`, e.g. `rod/exact x4` |
+//! | `method` | `<spine>/<joint>[ simd][ x<substeps>][ warm<w>][ soft<f>Hz][ stack<k>]`, e.g. `rod/exact x4` |
 //! | `spine` | chain3, rod or single |
 //! | `joint` | cheap or exact |
 //! | `solver` | scalar or simd (empty for a peer engine) |
 //! | `substeps` | substeps per frame, each of `dt / substeps` (1: the paper's method) |
 //! | `warm_start` | contacts' warm-start fraction (0: the paper's method) |
 //! | `contact_hertz` | soft contacts' frequency (0: hard, the paper's method) |
+//! | `contact_stacking` | stacking's rate k (1/m; 0: the paper's method) |
 //! | `dt` | time step (s) of a frame |
 //! | `iterations` | solver iterations per substep |
 //! | `step_us` | median time per step (microseconds) |
@@ -60,6 +61,8 @@ pub struct SweepConfig {
     pub warm_starts: Vec<f32>,
     /// Soft-contact frequencies (Hz, 0: hard); empty keeps the scene's.
     pub contact_hertz: Vec<f32>,
+    /// Stacking rates (1/m, 0: the paper's contacts); empty keeps the scene's.
+    pub contact_stacking: Vec<f32>,
     /// Frames per run; `None` keeps the scene's.
     pub frames: Option<u32>,
     /// Runs per combination, pooled for the median step time.
@@ -77,6 +80,7 @@ impl Default for SweepConfig {
             solvers: vec![SolverKind::Scalar],
             warm_starts: Vec::new(),
             contact_hertz: Vec::new(),
+            contact_stacking: Vec::new(),
             frames: None,
             repeats: 3,
         }
@@ -99,6 +103,8 @@ pub struct SweepRow {
     pub warm_start: f32,
     /// Soft contacts' frequency in Hz (0: hard; 0 for a peer).
     pub contact_hertz: f32,
+    /// Stacking's rate (1/m; 0 for a peer).
+    pub contact_stacking: f32,
     pub dt: f32,
     /// Iterations per substep.
     pub iterations: u32,
@@ -121,6 +127,7 @@ impl SweepRow {
             substeps: 1,
             warm_start: 0.0,
             contact_hertz: 0.0,
+            contact_stacking: 0.0,
             dt,
             iterations,
             step_us: 0.0,
@@ -152,15 +159,19 @@ pub fn combinations(def: &SceneDef, config: &SweepConfig) -> Vec<Overrides> {
     };
     let warm_starts = or_scene(&config.warm_starts, def.contact_warm_start);
     let hertz_list = or_scene(&config.contact_hertz, def.contact_hertz);
-    let contact_methods: Vec<(f32, f32)> = (warm_starts.iter())
-        .flat_map(|&w| hertz_list.iter().map(move |&f| (w, f)))
-        .collect();
+    let stacking_list = or_scene(&config.contact_stacking, def.contact_stacking);
+    let mut contact_methods: Vec<(f32, f32, f32)> = Vec::new();
+    for &w in &warm_starts {
+        for &f in &hertz_list {
+            contact_methods.extend(stacking_list.iter().map(|&k| (w, f, k)));
+        }
+    }
     let mut all = Vec::new();
     for &spine in &config.spines {
         for &joint in &config.joints {
             for &solver in &solvers {
                 for &substeps in &substeps {
-                    for &(warm, hertz) in &contact_methods {
+                    for &(warm, hertz, stacking) in &contact_methods {
                         for &dt in &dts {
                             for &iterations in &config.iterations {
                                 all.push(Overrides {
@@ -170,6 +181,7 @@ pub fn combinations(def: &SceneDef, config: &SweepConfig) -> Vec<Overrides> {
                                     substeps: Some(substeps),
                                     contact_warm_start: Some(warm),
                                     contact_hertz: Some(hertz),
+                                    contact_stacking: Some(stacking),
                                     dt: Some(dt),
                                     iterations: Some(iterations),
                                     frames: config.frames,
@@ -186,27 +198,24 @@ pub fn combinations(def: &SceneDef, config: &SweepConfig) -> Vec<Overrides> {
 }
 
 /// The method's label: `<spine>/<joint>`, then ` simd` unless scalar, ` x<substeps>` unless
-/// 1, ` warm<w>` and ` soft<f>Hz` unless 0 (so the paper's method keeps its plain name).
-pub fn method_label(
-    spine: SpineKind,
-    joint: JointFlavour,
-    solver: SolverKind,
-    substeps: u32,
-    warm_start: f32,
-    contact_hertz: f32,
-) -> String {
-    let mut label = format!("{spine}/{joint}");
-    if solver != SolverKind::Scalar {
-        label += &format!(" {solver}");
+/// 1, ` warm<w>`, ` soft<f>Hz` and ` stack<k>` unless 0 (so the paper's method keeps its plain
+/// name); the joint flavour, solver, substeps and contact settings are the scene's.
+pub fn method_label(spine: SpineKind, def: &SceneDef) -> String {
+    let mut label = format!("{spine}/{}", def.joint_flavour);
+    if def.solver != SolverKind::Scalar {
+        label += &format!(" {}", def.solver);
     }
-    if substeps != 1 {
-        label += &format!(" x{substeps}");
+    if def.substeps != 1 {
+        label += &format!(" x{}", def.substeps);
     }
-    if warm_start != 0.0 {
-        label += &format!(" warm{warm_start}");
+    if def.contact_warm_start != 0.0 {
+        label += &format!(" warm{}", def.contact_warm_start);
     }
-    if contact_hertz != 0.0 {
-        label += &format!(" soft{contact_hertz}Hz");
+    if def.contact_hertz != 0.0 {
+        label += &format!(" soft{}Hz", def.contact_hertz);
+    }
+    if def.contact_stacking != 0.0 {
+        label += &format!(" stack{}", def.contact_stacking);
     }
     label
 }
@@ -217,14 +226,7 @@ pub fn run_one(scene: &Scene, overrides: &Overrides, repeats: u32) -> anyhow::Re
     overrides.apply(&mut scene.def);
     let def = &scene.def;
     let spine = overrides.spine.unwrap_or_default();
-    let mut label = method_label(
-        spine,
-        def.joint_flavour,
-        def.solver,
-        def.substeps,
-        def.contact_warm_start,
-        def.contact_hertz,
-    );
+    let mut label = method_label(spine, def);
     // a scene's joint damping applies to every row: say so on the chart
     if def.joint_damping > 0.0 {
         label += &format!(" jd{}", def.joint_damping);
@@ -240,6 +242,7 @@ pub fn run_one(scene: &Scene, overrides: &Overrides, repeats: u32) -> anyhow::Re
     row.substeps = def.substeps;
     row.warm_start = def.contact_warm_start;
     row.contact_hertz = def.contact_hertz;
+    row.contact_stacking = def.contact_stacking;
     let frames = def.frames;
     time_and_measure(row, frames, repeats, || Ok(scene.build()?))
 }
@@ -329,7 +332,7 @@ pub fn median(values: &mut [f64]) -> f64 {
 }
 
 const HEADER: &str =
-    "method,spine,joint,solver,substeps,warm_start,contact_hertz,dt,iterations,step_us,\
+    "method,spine,joint,solver,substeps,warm_start,contact_hertz,contact_stacking,dt,iterations,step_us,\
 mean_dislocation_cm,max_dislocation_cm,mean_angular_rad,max_angular_rad,failed";
 
 pub fn to_csv(rows: &[SweepRow]) -> String {
@@ -338,7 +341,7 @@ pub fn to_csv(rows: &[SweepRow]) -> String {
     for r in rows {
         let failed = r.failed.as_deref().unwrap_or("").replace([',', '\n'], ";");
         out += &format!(
-            "{},{},{},{},{},{},{},{},{},{:.3},{:.6},{:.6},{:.6},{:.6},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{:.3},{:.6},{:.6},{:.6},{:.6},{}\n",
             r.method,
             r.spine,
             r.joint,
@@ -346,6 +349,7 @@ pub fn to_csv(rows: &[SweepRow]) -> String {
             r.substeps,
             r.warm_start,
             r.contact_hertz,
+            r.contact_stacking,
             r.dt,
             r.iterations,
             r.step_us,
@@ -360,7 +364,8 @@ pub fn to_csv(rows: &[SweepRow]) -> String {
 }
 
 /// Reads back what [`to_csv`] wrote (columns as in the module's table: method, spine, joint,
-/// solver, substeps, warm_start, contact_hertz, dt, iterations, step_us, the four residuals,
+/// solver, substeps, warm_start, contact_hertz, contact_stacking, dt, iterations, step_us, the
+/// four residuals,
 /// failed); errors name the line
 /// and the column.
 pub fn parse_csv(text: &str) -> anyhow::Result<Vec<SweepRow>> {
@@ -395,14 +400,15 @@ pub fn parse_csv(text: &str) -> anyhow::Result<Vec<SweepRow>> {
             substeps: number(4)? as u32,
             warm_start: number(5)? as f32,
             contact_hertz: number(6)? as f32,
-            dt: number(7)? as f32,
-            iterations: number(8)? as u32,
-            step_us: number(9)?,
-            mean_dislocation_cm: number(10)?,
-            max_dislocation_cm: number(11)?,
-            mean_angular_rad: number(12)?,
-            max_angular_rad: number(13)?,
-            failed: Some(fields[14].to_string()).filter(|s| !s.is_empty()),
+            contact_stacking: number(7)? as f32,
+            dt: number(8)? as f32,
+            iterations: number(9)? as u32,
+            step_us: number(10)?,
+            mean_dislocation_cm: number(11)?,
+            max_dislocation_cm: number(12)?,
+            mean_angular_rad: number(13)?,
+            max_angular_rad: number(14)?,
+            failed: Some(fields[15].to_string()).filter(|s| !s.is_empty()),
         });
     }
     Ok(rows)

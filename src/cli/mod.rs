@@ -118,6 +118,9 @@ pub struct SweepArgs {
     /// Soft-contact frequencies (Hz, 0: hard), comma separated; default the scene's.
     #[arg(long, value_delimiter = ',', value_parser = non_negative)]
     pub contact_hertz: Vec<f32>,
+    /// Stacking rates (1/m, 0: the paper's contacts), comma separated; default the scene's.
+    #[arg(long, value_delimiter = ',', value_parser = stacking_rate)]
+    pub contact_stacking: Vec<f32>,
     /// Worker threads of the solver; default rayon's (one per core).
     #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
     pub threads: Option<u64>,
@@ -165,6 +168,10 @@ pub struct OverrideArgs {
     /// Soft contacts' damping ratio (default the scene's).
     #[arg(long, value_parser = non_negative)]
     pub contact_damping_ratio: Option<f32>,
+    /// Stacking (1/m): in a contact the lower body counts e^(k dh) times heavier, dh the
+    /// other's height above it (0: the paper's contact; default the scene's `contact_stacking`).
+    #[arg(long, value_parser = stacking_rate)]
+    pub contact_stacking: Option<f32>,
     /// Joint damping, a dashpot across every joint (N m s/rad; 0: none, the paper's; default
     /// the scene's `joint_damping`).
     #[arg(long, value_parser = non_negative)]
@@ -258,6 +265,15 @@ fn positive_speed(s: &str) -> Result<f32, String> {
     }
 }
 
+fn stacking_rate(s: &str) -> Result<f32, String> {
+    let max = crate::scene::MAX_CONTACT_STACKING;
+    match s.parse::<f32>() {
+        Ok(v) if (0.0..=max).contains(&v) => Ok(v),
+        Ok(v) => Err(format!("must be a rate from 0 to {max} per metre, got {v}")),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
 impl From<&OverrideArgs> for Overrides {
     fn from(a: &OverrideArgs) -> Self {
         Overrides {
@@ -269,6 +285,7 @@ impl From<&OverrideArgs> for Overrides {
             contact_warm_start: a.contact_warm_start,
             contact_hertz: a.contact_hertz,
             contact_damping_ratio: a.contact_damping_ratio,
+            contact_stacking: a.contact_stacking,
             joint_damping: a.joint_damping,
             dt: a.dt,
             frames: a.frames,
@@ -336,6 +353,7 @@ fn dispatch_command(cli: Cli, matches: &ArgMatches) -> anyhow::Result<()> {
                 solvers: args.solver,
                 warm_starts: args.contact_warm_start,
                 contact_hertz: args.contact_hertz,
+                contact_stacking: args.contact_stacking,
                 frames: args.frames,
                 repeats: args.repeats,
             };
@@ -532,7 +550,7 @@ fn sweep(
     let mut rows = Vec::with_capacity(combinations.len());
     for overrides in &combinations {
         progress.show(&format!(
-            "{}/{} {} dt={:.4} substeps={} warm={} soft={}Hz iterations={}",
+            "{}/{} {} dt={:.4} substeps={} warm={} soft={}Hz stack={} iterations={}",
             overrides.spine.unwrap_or_default(),
             overrides.joint_flavour.unwrap_or_default(),
             overrides.solver.unwrap_or(scene.def.solver),
@@ -540,6 +558,7 @@ fn sweep(
             overrides.substeps.unwrap_or(scene.def.substeps),
             (overrides.contact_warm_start).unwrap_or(scene.def.contact_warm_start),
             (overrides.contact_hertz).unwrap_or(scene.def.contact_hertz),
+            (overrides.contact_stacking).unwrap_or(scene.def.contact_stacking),
             overrides.iterations.unwrap_or(scene.def.iterations)
         ));
         rows.push(sweep::run_one(&scene, overrides, config.repeats)?);

@@ -131,6 +131,8 @@ mod tests {
             allowed_penetration: 0.0,
             compliance: 0.0,
             damping: 0.0,
+            mass_scale_a: 1.0,
+            mass_scale_b: 1.0,
             start_separation: 0.0,
             normal_impulse: impulse,
             warm_impulse: 0.0,

@@ -48,6 +48,10 @@ pub struct ContactLanes<L> {
     compliance: L,
     damping: L,
     start_separation: L,
+    /// Stacking's inverse-mass scales ([`super::Stacking`]); a batch without any skips them.
+    stacked: bool,
+    mass_scale_a: L,
+    mass_scale_b: L,
     normal_impulse: L,
     friction_impulse: L,
     /// Lanes that slid in some iteration (their points stop sticking).
@@ -78,6 +82,11 @@ impl<L: Lane> ContactLanes<L> {
             compliance: L::from_fn(|i| row(i).compliance),
             damping: L::from_fn(|i| row(i).damping),
             start_separation: L::from_fn(|i| row(i).start_separation),
+            stacked: rows
+                .iter()
+                .any(|r| r.mass_scale_a != 1.0 || r.mass_scale_b != 1.0),
+            mass_scale_a: L::from_fn(|i| row(i).mass_scale_a),
+            mass_scale_b: L::from_fn(|i| row(i).mass_scale_b),
             normal_impulse: L::from_fn(|i| row(i).normal_impulse),
             friction_impulse: L::from_fn(|i| row(i).friction_impulse),
             slid: L::zero(),
@@ -108,13 +117,18 @@ impl<L: Lane> ContactLanes<L> {
         };
         let (n, ra, rb) = (self.normal, self.arm_a, self.arm_b);
         let zero = L::zero();
+        let one = L::splat(1.0);
+        let (sa, sb) = match self.stacked {
+            true => (self.mass_scale_a, self.mass_scale_b),
+            false => (one, one),
+        };
         let normal_impulse = self.normal_impulse;
 
         // 1. non-penetration: measured at the turned points, pushed at the fixed lever arms
         let point_a = a.position + a.orientation.rotate(self.local_a);
         let point_b = b.position + b.orientation.rotate(self.local_b);
         let separation = (point_b - point_a).dot(n) + self.allowed_penetration;
-        let w = a.positional_inverse_mass(ra, n) + b.positional_inverse_mass(rb, n);
+        let w = sa * a.positional_inverse_mass(ra, n) + sb * b.positional_inverse_mass(rb, n);
         let active = w.gt(zero) & (separation.lt(zero) | normal_impulse.gt(zero));
         let (error, denominator) = if self.soft {
             let soft = self.compliance * w;
@@ -132,8 +146,8 @@ impl<L: Lane> ContactLanes<L> {
         let lambda = total - normal_impulse;
         let normal_impulse = total;
         self.normal_impulse = normal_impulse;
-        a.apply_positional_impulse(n.scale(-lambda), ra);
-        b.apply_positional_impulse(n.scale(lambda), rb);
+        a.apply_positional_impulse(n.scale(-(lambda * sa)), ra);
+        b.apply_positional_impulse(n.scale(lambda * sb), rb);
 
         // 2. friction, where the point pushes
         let pushing = normal_impulse.gt(zero);
@@ -146,7 +160,7 @@ impl<L: Lane> ContactLanes<L> {
             let moving = length.gt(L::splat(1e-9));
             let t =
                 tangential.scale(moving.select(L::splat(1.0) / length.max(L::splat(1e-9)), zero));
-            let w = a.positional_inverse_mass(ra, t) + b.positional_inverse_mass(rb, t);
+            let w = sa * a.positional_inverse_mass(ra, t) + sb * b.positional_inverse_mass(rb, t);
             let active = pushing & moving & w.gt(zero);
             let needed = length / w.max(L::splat(f32::MIN_POSITIVE));
             // `<=` as in the scalar code
@@ -157,8 +171,8 @@ impl<L: Lane> ContactLanes<L> {
                 .min(needed);
             let applied = active.select(within.select(needed, sliding), zero);
             self.slid = self.slid | (active & limit.lt(friction_impulse + needed));
-            a.apply_positional_impulse(t.scale(applied), ra);
-            b.apply_positional_impulse(t.scale(-applied), rb);
+            a.apply_positional_impulse(t.scale(applied * sa), ra);
+            b.apply_positional_impulse(t.scale(-(applied * sb)), rb);
             self.friction_impulse = friction_impulse + applied.max(zero);
         }
 

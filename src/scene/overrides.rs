@@ -18,6 +18,7 @@ pub struct Overrides {
     pub contact_warm_start: Option<f32>,
     pub contact_hertz: Option<f32>,
     pub contact_damping_ratio: Option<f32>,
+    pub contact_stacking: Option<f32>,
     pub joint_damping: Option<f32>,
     pub dt: Option<f32>,
     pub frames: Option<u32>,
@@ -60,6 +61,9 @@ impl Overrides {
         }
         if let Some(v) = self.contact_damping_ratio {
             def.contact_damping_ratio = v;
+        }
+        if let Some(v) = self.contact_stacking {
+            def.contact_stacking = v;
         }
         if let Some(v) = self.joint_damping {
             def.joint_damping = v;

@@ -23,6 +23,7 @@ pub struct VariantDef {
     pub contact_warm_start: Option<f32>,
     pub contact_hertz: Option<f32>,
     pub contact_damping_ratio: Option<f32>,
+    pub contact_stacking: Option<f32>,
     pub joint_damping: Option<f32>,
 }
 
@@ -39,6 +40,7 @@ impl VariantDef {
             contact_warm_start: self.contact_warm_start,
             contact_hertz: self.contact_hertz,
             contact_damping_ratio: self.contact_damping_ratio,
+            contact_stacking: self.contact_stacking,
             joint_damping: self.joint_damping,
             ..Default::default()
         }

@@ -139,6 +139,10 @@ pub struct Settings {
     /// ([`crate::contact::Softness`]). 0 Hz (the default) is the paper's hard projection.
     pub contact_hertz: f32,
     pub contact_damping_ratio: f32,
+    /// Stacking (1/m): in a contact the lower body counts `e^(k dh)` times heavier, `dh` the
+    /// other's height above it ([`crate::contact::Stacking`]). 0 (the default) is the paper's
+    /// contact.
+    pub contact_stacking: f32,
     /// Islands of bodies that stay still fall asleep and leave the step ([`crate::sleep`]).
     /// Off (the default) in the paper's scenes, whose residuals are measured every frame.
     pub sleep: bool,
@@ -170,6 +174,7 @@ impl Default for Settings {
             contact_warm_start: 0.0,
             contact_hertz: 0.0,
             contact_damping_ratio: 1.0,
+            contact_stacking: 0.0,
             sleep: false,
             linear_damping: 0.0,
             angular_damping: 0.0,
@@ -366,7 +371,12 @@ impl Solver {
             hertz: settings.contact_hertz,
             damping_ratio: settings.contact_damping_ratio,
         };
-        contacts.begin_substep(bodies, h, settings.contact_push_speed, softness);
+        let stacking = crate::contact::Stacking {
+            up: -settings.gravity.normalize_or_zero(),
+            rate: settings.contact_stacking,
+        };
+        let push_speed = settings.contact_push_speed;
+        contacts.begin_substep(bodies, h, push_speed, softness, stacking);
         // impacts faster than two frames of free fall bounce (step 3.5), and are not warm-started
         let impact_speed = 2.0 * settings.gravity.length() * settings.dt;
         if settings.contact_warm_start > 0.0 {
