@@ -243,3 +243,51 @@ fn the_drop_pile_falls_asleep_at_the_scenes_at_rest_variant() {
         );
     }
 }
+
+/// Stacking carries the pile's weight (issue 10, the settled residual): the scene's `stacked`
+/// variant is the paper's method (one step of 20 iterations, cheap joints, hard contacts) with
+/// PBD's mass scaling by height in the contacts, k = 10 /m. On the scene's layout it leaves
+/// well under the paper's settled dislocation (frames 300-600) for both spines, and the rod
+/// spine stays below chain3 on the settled frames (the paper's result at rest). Measured (seed
+/// 7, total over 30 ragdolls): chain3 62.9 -> 25.8 cm, rod 51.0 -> 17.9 cm, rod below chain3 on
+/// 300 of 300 settled frames; over seeds 7 / 1 / 2 / 3 the ratio is 0.41-0.65 (chain3) and
+/// 0.35-0.53 (rod), and the rod is lower on 1200 of their 1200 settled frames (a probe not
+/// kept; README, Stacking).
+#[test]
+fn stacking_leaves_less_than_two_thirds_of_the_papers_settled_dislocation() {
+    let _alone = one_at_a_time();
+    let settled = |variant: Option<&str>, spine: SpineKind| {
+        let mut scene = Scene::load(SCENE).unwrap();
+        if let Some(name) = variant {
+            scene = scene.variant(name).unwrap();
+        }
+        Overrides {
+            spine: Some(spine),
+            ..Default::default()
+        }
+        .apply(&mut scene.def);
+        let mut lab = scene.build().unwrap();
+        let report = sim::run(&mut lab, scene.def.frames, &mut sim::NoObserver).unwrap();
+        report.total_dislocation_cm[300..].to_vec()
+    };
+    let mut stacked_per_spine = Vec::new();
+    for spine in [SpineKind::Chain3, SpineKind::Rod] {
+        let paper = mean(&settled(None, spine));
+        let stacked_frames = settled(Some("stacked"), spine);
+        let stacked = mean(&stacked_frames);
+        println!("{spine}: settled total dislocation {paper:.1} cm (paper) -> {stacked:.1} cm (stacked)");
+        assert!(
+            stacked < 0.66 * paper,
+            "{spine}: stacking left {stacked} cm against the paper's {paper} cm"
+        );
+        stacked_per_spine.push(stacked_frames);
+    }
+    let (chain3, rod) = (&stacked_per_spine[0], &stacked_per_spine[1]);
+    let lower = chain3.iter().zip(rod).filter(|(c, r)| r < c).count();
+    println!("stacked: rod below chain3 on {lower} of {} settled frames", rod.len());
+    assert!(
+        lower as f32 >= 0.9 * rod.len() as f32,
+        "stacked: rod below chain3 on only {lower} of {} settled frames",
+        rod.len()
+    );
+}
