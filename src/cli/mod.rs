@@ -401,6 +401,27 @@ fn main_job() -> anyhow::Result<()> {
         ..Default::default()
     };
     sweep(&path, &config, None, Shard::ALL, out)?;
+    if stop::requested() {
+        return Ok(());
+    }
+    // the drop: the paper's method (one step a frame, cheap joints, the scalar solver, hard
+    // contacts) as the reference line, beside 4 substeps and contact stacking, over the fall,
+    // the landing and the first seconds of the pile
+    let config = crate::sweep::SweepConfig {
+        iterations: vec![2, 5, 20],
+        spines: vec![SpineKind::Chain3, SpineKind::Rod],
+        joints: vec![JointFlavour::Cheap],
+        substeps: vec![1, 4],
+        solvers: vec![SolverKind::Scalar],
+        contact_stacking: vec![0.0, 10.0],
+        frames: Some(300),
+        repeats: 1,
+        ..Default::default()
+    };
+    sweep(&scenes.join("ragdoll_drop.toml"), &config, None, Shard::ALL, out)?;
+    if stop::requested() {
+        return Ok(());
+    }
     // the default tuning grid of passive bending's rod spine
     let scene = Scene::load(&path)?;
     tune::run_grid(&scene, &crate::tune::TuneConfig::default(), out)?;
