@@ -50,8 +50,15 @@ pub struct FrameMetrics {
     pub rods: Vec<RodState>,
     /// Per ragdoll with a skeleton, per bone-mapping method: (ragdoll index, method, error).
     pub bones: Vec<(usize, BoneMethod, BoneError)>,
-    /// Deepest contact penetration (cm), reported apart from the joints' residual.
+    /// Deepest contact penetration (cm) at the solver's contact points, reported apart from
+    /// the joints' residual.
     pub max_penetration_cm: f32,
+    /// Deepest overlap of the shapes (cm), found by a detection of its own on the final poses
+    /// ([`crate::contact::Contacts::deepest_overlap`]): what the contact points miss when
+    /// bodies slide over each other within a frame. Zero without contacts.
+    pub max_overlap_cm: f32,
+    /// The detection's storage for `max_overlap_cm`, kept from frame to frame.
+    overlap_probe: crate::contact::Contacts,
 }
 
 impl FrameMetrics {
@@ -64,6 +71,13 @@ impl FrameMetrics {
         self.kinetic_energy = world.kinetic_energy();
         self.potential_energy = world.potential_energy();
         self.max_penetration_cm = 100.0 * world.contacts.max_penetration(&world.bodies);
+        self.max_overlap_cm = match world.settings.contacts {
+            true => {
+                let (bodies, constraints) = (&world.bodies, &world.constraints);
+                100.0 * (self.overlap_probe).deepest_overlap(bodies, constraints, world.settings.dt)
+            }
+            false => 0.0,
+        };
         self.rods.clear();
         self.rods.extend(world.rod_states());
         self.bones.clear();

@@ -59,6 +59,9 @@ pub struct RunReport {
     pub total_dislocation_cm: Vec<f32>,
     /// Deepest contact penetration over the run (cm).
     pub max_penetration_cm: f32,
+    /// Deepest overlap of the shapes over the run (cm), found afresh on each frame's final
+    /// poses ([`FrameMetrics::max_overlap_cm`]).
+    pub max_overlap_cm: f32,
     /// Wall time (s) spent in `World::step` alone: no measuring, no observer (recording).
     pub step_seconds: f64,
     /// Per frame, the dynamic bodies awake after it (all of them unless sleeping is on).
@@ -99,6 +102,7 @@ pub fn run(lab: &mut Lab, frames: u32, observer: &mut dyn Observer) -> anyhow::R
     observer.begin(lab, &metrics)?;
     let mut total_dislocation_cm = Vec::with_capacity(frames as usize);
     let mut max_penetration_cm = 0.0f32;
+    let mut max_overlap_cm = 0.0f32;
     let mut step_seconds = 0.0f64;
     let mut awake_bodies = Vec::with_capacity(frames as usize);
     let mut profile = crate::solver::Profile::default();
@@ -115,6 +119,7 @@ pub fn run(lab: &mut Lab, frames: u32, observer: &mut dyn Observer) -> anyhow::R
         awake_bodies.push(lab.world.awake_bodies as u32);
         profile.add(&lab.world.solver.profile);
         max_penetration_cm = max_penetration_cm.max(metrics.max_penetration_cm);
+        max_overlap_cm = max_overlap_cm.max(metrics.max_overlap_cm);
         for (report, residual) in ragdolls.iter_mut().zip(&metrics.ragdolls) {
             report.summary.add(*residual);
         }
@@ -131,6 +136,7 @@ pub fn run(lab: &mut Lab, frames: u32, observer: &mut dyn Observer) -> anyhow::R
         final_rods: metrics.rods,
         total_dislocation_cm,
         max_penetration_cm,
+        max_overlap_cm,
         step_seconds,
         awake_bodies,
         profile,

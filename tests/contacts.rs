@@ -1196,3 +1196,55 @@ fn stacking_scales_are_consistent_through_a_third_body() {
     };
     assert_eq!(weightless.scales(p, r), (1.0, 1.0));
 }
+
+/// The overlap measure finds what the contact points cannot: the world's points are found once
+/// a frame, so a ball moved by hand 3 cm into a wall has no point with the wall until the next
+/// detection, and the points report the floor's contact only. A detection of its own on the
+/// current poses ([`rodlab::contact::Contacts::deepest_overlap`]) finds the 3 cm.
+#[test]
+fn the_overlap_found_afresh_sees_what_the_points_miss() {
+    let mut world = World::new(settings());
+    plane(&mut world, Quat::IDENTITY);
+    let half = 0.2;
+    world.add_body(
+        Body::new(
+            "wall",
+            BodyKind::Fixed,
+            Shape::Cuboid {
+                half_extents: Vec3::splat(half),
+            },
+            1.0,
+        )
+        .with_pose(Vec3::new(1.0, half, 0.0), Quat::IDENTITY),
+    );
+    let radius = 0.1;
+    let ball = world.add_body(
+        Body::new("ball", BodyKind::Dynamic, Shape::Sphere { radius }, 1.0)
+            .with_pose(Vec3::new(0.0, radius, 0.0), Quat::IDENTITY),
+    );
+    for _ in 0..30 {
+        world.step().unwrap();
+    }
+    let measure = |world: &World| {
+        let mut probe = rodlab::contact::Contacts::default();
+        let (bodies, constraints) = (&world.bodies, &world.constraints);
+        (
+            world.contacts.max_penetration(bodies),
+            probe.deepest_overlap(bodies, constraints, world.settings.dt),
+        )
+    };
+    let (points, afresh) = measure(&world);
+    assert!(points < 1e-3 && afresh < 1e-3, "at rest: {points} m, {afresh} m");
+    // 3 cm into the wall's face at x = 1 - half, still resting on the floor
+    let depth = 0.03;
+    let x = 1.0 - half - radius + depth;
+    world
+        .body_mut(ball)
+        .set_pose(Vec3::new(x, radius, 0.0), Quat::IDENTITY);
+    let (points, afresh) = measure(&world);
+    assert!(points < 1e-3, "the points see {points} m");
+    assert!(
+        (afresh - depth).abs() < 1e-4,
+        "found afresh {afresh} m, expected {depth} m"
+    );
+}

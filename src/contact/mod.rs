@@ -404,6 +404,21 @@ impl Contacts {
         }
     }
 
+    /// Deepest overlap (m) of the shapes at the current poses, found by a detection of its own
+    /// into `self`, which must be a scratch store and not the world's contacts. The world's
+    /// points are found once a frame and measured at their body-space points along their
+    /// fixed normals; when bodies slide or roll over each other within a frame (4 substeps
+    /// in a pile), the features that overlap at the end are not those points, and the points
+    /// report a fraction of it (the drop at 4 substeps of 5: 1.7 cm at the points, 5.6 cm
+    /// found afresh). Pairs of sleeping bodies are not looked at.
+    pub fn deepest_overlap(&mut self, bodies: &[Body], constraints: &[Constraint], dt: f32) -> f32 {
+        self.detect(bodies, constraints, dt, 0.0);
+        self.points
+            .iter()
+            .map(|p| -p.separation_at(&bodies[p.body_a.index()], &bodies[p.body_b.index()]))
+            .fold(0.0, f32::max)
+    }
+
     /// Deepest penetration (m) among the contact points at the current poses.
     pub fn max_penetration(&self, bodies: &[Body]) -> f32 {
         self.points

@@ -84,6 +84,7 @@ pub fn blueprint(scene: &Scene) -> Blueprint {
             series("Bones (cm)", "metrics/bones"),
             series("Totals", "metrics/total"),
             series("Penetration (cm)", "metrics/penetration_cm"),
+            series("Overlap found afresh (cm)", "metrics/overlap_cm"),
             series("Awake bodies", "metrics/awake_bodies"),
         ]);
         Vertical::new([
@@ -653,13 +654,16 @@ impl Recorder {
         Ok(())
     }
 
-    /// Contact points and normals (a scene switch), the deepest penetration, and, with many
+    /// Contact points and normals (a scene switch), the deepest penetration at the points and
+    /// found afresh, and, with many
     /// ragdolls, the residuals summed over all of them.
     fn log_contacts(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()> {
         let world = &lab.world;
         if world.settings.contacts {
             self.scalars
                 .push("metrics/penetration_cm", metrics.max_penetration_cm as f64);
+            self.scalars
+                .push("metrics/overlap_cm", metrics.max_overlap_cm as f64);
         }
         if lab.ragdolls.len() > 2 {
             let (dislocation, angular) = metrics.totals();
