@@ -32,6 +32,7 @@
 //! | `step_us` | median time per step (microseconds) |
 //! | `mean_dislocation_cm`, `max_dislocation_cm` | per ragdoll, over frames |
 //! | `mean_angular_rad`, `max_angular_rad` | per ragdoll, over frames |
+//! | `max_overlap_cm` | the deepest overlap of the shapes over the run, found afresh on each frame's final poses (0 without contacts; [`FrameMetrics::max_overlap_cm`]) |
 //! | `failed` | empty, or why the run stopped |
 
 use std::time::Instant;
@@ -113,6 +114,8 @@ pub struct SweepRow {
     pub max_dislocation_cm: f64,
     pub mean_angular_rad: f64,
     pub max_angular_rad: f64,
+    /// Deepest overlap of the shapes over the run (cm), found afresh each frame.
+    pub max_overlap_cm: f64,
     pub failed: Option<String>,
 }
 
@@ -135,6 +138,7 @@ impl SweepRow {
             max_dislocation_cm: 0.0,
             mean_angular_rad: 0.0,
             max_angular_rad: 0.0,
+            max_overlap_cm: 0.0,
             failed: None,
         }
     }
@@ -284,7 +288,7 @@ pub fn time_and_measure<T: Timed>(
     for repeat in 0..repeats.max(1) {
         let mut engine = build()?;
         let (mut sum_d, mut sum_a, mut count) = (0.0f64, 0.0f64, 0u64);
-        let (mut max_d, mut max_a) = (0.0f64, 0.0f64);
+        let (mut max_d, mut max_a, mut max_overlap) = (0.0f64, 0.0f64, 0.0f64);
         for frame in 0..frames as usize {
             let elapsed = match engine.step_timed() {
                 Ok(elapsed) => elapsed,
@@ -298,6 +302,7 @@ pub fn time_and_measure<T: Timed>(
             }
             if repeat == 0 {
                 metrics.measure(engine.measured());
+                max_overlap = max_overlap.max(metrics.max_overlap_cm as f64);
                 for r in &metrics.ragdolls {
                     sum_d += r.dislocation_cm as f64;
                     sum_a += r.angular_rad as f64;
@@ -313,6 +318,7 @@ pub fn time_and_measure<T: Timed>(
             row.mean_angular_rad = sum_a / n;
             row.max_dislocation_cm = max_d;
             row.max_angular_rad = max_a;
+            row.max_overlap_cm = max_overlap;
         }
         if row.failed.is_some() {
             break;
@@ -333,7 +339,7 @@ pub fn median(values: &mut [f64]) -> f64 {
 
 const HEADER: &str =
     "method,spine,joint,solver,substeps,warm_start,contact_hertz,contact_stacking,dt,iterations,step_us,\
-mean_dislocation_cm,max_dislocation_cm,mean_angular_rad,max_angular_rad,failed";
+mean_dislocation_cm,max_dislocation_cm,mean_angular_rad,max_angular_rad,max_overlap_cm,failed";
 
 pub fn to_csv(rows: &[SweepRow]) -> String {
     let mut out = String::from(HEADER);
@@ -341,7 +347,7 @@ pub fn to_csv(rows: &[SweepRow]) -> String {
     for r in rows {
         let failed = r.failed.as_deref().unwrap_or("").replace([',', '\n'], ";");
         out += &format!(
-            "{},{},{},{},{},{},{},{},{},{},{:.3},{:.6},{:.6},{:.6},{:.6},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{:.3},{:.6},{:.6},{:.6},{:.6},{:.4},{}\n",
             r.method,
             r.spine,
             r.joint,
@@ -357,6 +363,7 @@ pub fn to_csv(rows: &[SweepRow]) -> String {
             r.max_dislocation_cm,
             r.mean_angular_rad,
             r.max_angular_rad,
+            r.max_overlap_cm,
             failed
         );
     }
@@ -365,7 +372,7 @@ pub fn to_csv(rows: &[SweepRow]) -> String {
 
 /// Reads back what [`to_csv`] wrote (columns as in the module's table: method, spine, joint,
 /// solver, substeps, warm_start, contact_hertz, contact_stacking, dt, iterations, step_us, the
-/// four residuals,
+/// four residuals, max_overlap_cm,
 /// failed); errors name the line
 /// and the column.
 pub fn parse_csv(text: &str) -> anyhow::Result<Vec<SweepRow>> {
@@ -408,7 +415,8 @@ pub fn parse_csv(text: &str) -> anyhow::Result<Vec<SweepRow>> {
             max_dislocation_cm: number(12)?,
             mean_angular_rad: number(13)?,
             max_angular_rad: number(14)?,
-            failed: Some(fields[15].to_string()).filter(|s| !s.is_empty()),
+            max_overlap_cm: number(15)?,
+            failed: Some(fields[16].to_string()).filter(|s| !s.is_empty()),
         });
     }
     Ok(rows)

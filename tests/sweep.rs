@@ -71,6 +71,17 @@ fn residual_falls_as_iterations_rise_in_a_short_drop_with_contacts() {
         },
     );
     assert_falls_with_iterations(&rows, 0.5);
+    // the pile lands within the 120 frames: every run reports a real overlap (found afresh), and
+    // it reads back from the CSV
+    assert!(
+        rows.iter().all(|r| r.max_overlap_cm > 0.1 && r.max_overlap_cm < 50.0),
+        "{:?}",
+        rows.iter().map(|r| r.max_overlap_cm).collect::<Vec<_>>()
+    );
+    let back = sweep::parse_csv(&sweep::to_csv(&rows)).unwrap();
+    for (a, b) in rows.iter().zip(&back) {
+        assert!((a.max_overlap_cm - b.max_overlap_cm).abs() < 1e-3);
+    }
 }
 
 #[test]

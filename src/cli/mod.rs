@@ -594,13 +594,14 @@ fn sweep(
     }
     progress.finish();
     println!(
-        "  {:<36} {:>8} {:>4} {:>5} {:>10} {:>12} {:>12} {:>10}",
-        "method", "dt", "sub", "iter", "step us", "mean disl cm", "max disl cm", "mean rad"
+        "  {:<36} {:>8} {:>4} {:>5} {:>10} {:>12} {:>12} {:>10} {:>10}",
+        "method", "dt", "sub", "iter", "step us", "mean disl cm", "max disl cm", "mean rad",
+        "overlap cm"
     );
     for r in &rows {
         match &r.failed {
             None => println!(
-                "  {:<36} {:>8.4} {:>4} {:>5} {:>10.1} {:>12.4} {:>12.4} {:>10.5}",
+                "  {:<36} {:>8.4} {:>4} {:>5} {:>10.1} {:>12.4} {:>12.4} {:>10.5} {:>10.2}",
                 r.method,
                 r.dt,
                 r.substeps,
@@ -608,7 +609,8 @@ fn sweep(
                 r.step_us,
                 r.mean_dislocation_cm,
                 r.max_dislocation_cm,
-                r.mean_angular_rad
+                r.mean_angular_rad,
+                r.max_overlap_cm
             ),
             Some(e) => println!(
                 "  {:<36} {:>8.4} {:>4} {:>5} failed: {e}",
