@@ -1234,7 +1234,10 @@ fn the_overlap_found_afresh_sees_what_the_points_miss() {
         )
     };
     let (points, afresh) = measure(&world);
-    assert!(points < 1e-3 && afresh < 1e-3, "at rest: {points} m, {afresh} m");
+    assert!(
+        points < 1e-3 && afresh < 1e-3,
+        "at rest: {points} m, {afresh} m"
+    );
     // 3 cm into the wall's face at x = 1 - half, still resting on the floor
     let depth = 0.03;
     let x = 1.0 - half - radius + depth;

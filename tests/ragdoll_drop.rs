@@ -275,7 +275,9 @@ fn stacking_leaves_less_than_two_thirds_of_the_papers_settled_dislocation() {
         let paper = mean(&settled(None, spine));
         let stacked_frames = settled(Some("stacked"), spine);
         let stacked = mean(&stacked_frames);
-        println!("{spine}: settled total dislocation {paper:.1} cm (paper) -> {stacked:.1} cm (stacked)");
+        println!(
+            "{spine}: settled total dislocation {paper:.1} cm (paper) -> {stacked:.1} cm (stacked)"
+        );
         assert!(
             stacked < 0.66 * paper,
             "{spine}: stacking left {stacked} cm against the paper's {paper} cm"
@@ -284,7 +286,10 @@ fn stacking_leaves_less_than_two_thirds_of_the_papers_settled_dislocation() {
     }
     let (chain3, rod) = (&stacked_per_spine[0], &stacked_per_spine[1]);
     let lower = chain3.iter().zip(rod).filter(|(c, r)| r < c).count();
-    println!("stacked: rod below chain3 on {lower} of {} settled frames", rod.len());
+    println!(
+        "stacked: rod below chain3 on {lower} of {} settled frames",
+        rod.len()
+    );
     assert!(
         lower as f32 >= 0.9 * rod.len() as f32,
         "stacked: rod below chain3 on only {lower} of {} settled frames",

@@ -74,7 +74,8 @@ fn residual_falls_as_iterations_rise_in_a_short_drop_with_contacts() {
     // the pile lands within the 120 frames: every run reports a real overlap (found afresh), and
     // it reads back from the CSV
     assert!(
-        rows.iter().all(|r| r.max_overlap_cm > 0.1 && r.max_overlap_cm < 50.0),
+        rows.iter()
+            .all(|r| r.max_overlap_cm > 0.1 && r.max_overlap_cm < 50.0),
         "{:?}",
         rows.iter().map(|r| r.max_overlap_cm).collect::<Vec<_>>()
     );

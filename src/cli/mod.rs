@@ -418,7 +418,13 @@ fn main_job() -> anyhow::Result<()> {
         repeats: 1,
         ..Default::default()
     };
-    sweep(&scenes.join("ragdoll_drop.toml"), &config, None, Shard::ALL, out)?;
+    sweep(
+        &scenes.join("ragdoll_drop.toml"),
+        &config,
+        None,
+        Shard::ALL,
+        out,
+    )?;
     if stop::requested() {
         return Ok(());
     }
@@ -595,7 +601,14 @@ fn sweep(
     progress.finish();
     println!(
         "  {:<36} {:>8} {:>4} {:>5} {:>10} {:>12} {:>12} {:>10} {:>10}",
-        "method", "dt", "sub", "iter", "step us", "mean disl cm", "max disl cm", "mean rad",
+        "method",
+        "dt",
+        "sub",
+        "iter",
+        "step us",
+        "mean disl cm",
+        "max disl cm",
+        "mean rad",
         "overlap cm"
     );
     for r in &rows {
@@ -1231,7 +1244,6 @@ fn print_profile(report: &RunReport) {
         println!("  step profile, ms per frame: {}", phases.join(", "));
     }
 }
-
 
 /// The deepest penetration at the solver's contact points and the deepest overlap found afresh
 /// on the final poses, over the run: the second catches what the first misses when bodies

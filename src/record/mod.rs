@@ -655,8 +655,7 @@ impl Recorder {
     }
 
     /// Contact points and normals (a scene switch), the deepest penetration at the points and
-    /// found afresh, and, with many
-    /// ragdolls, the residuals summed over all of them.
+    /// found afresh, and, with many ragdolls, the residuals summed over all of them.
     fn log_contacts(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()> {
         let world = &lab.world;
         if world.settings.contacts {
