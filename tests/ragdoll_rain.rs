@@ -1,6 +1,7 @@
 //! The 1000-ragdoll rain (`scenes/ragdoll_rain.toml`): the scene builds, and the full 10 s run
 //! without NaN or explosion for both spines, nothing through the floor and the mean
-//! dislocation under 1 cm per ragdoll, with the scene's 4 substeps of 4 iterations (SIMD).
+//! dislocation under 1 cm per ragdoll, with the scene's 4 substeps of 2 iterations (SIMD) and
+//! contact stacking.
 //! `cargo test --release --test ragdoll_rain -- --nocapture` prints steps/s.
 
 use rodlab::lab::Lab;
@@ -21,12 +22,14 @@ fn rain(spine: SpineKind, frames: u32) -> (Lab, f32, f32) {
     .apply(&mut scene.def);
     let mut lab = scene.build().unwrap();
     assert_eq!(lab.ragdolls.len(), 1000);
-    // The scene runs 4 substeps of 4 iterations. With one substep of 4 iterations the pile
-    // presses forearms about 12 cm through the floor at the first impacts (measured: lowest
-    // centre -8.6 cm at frame 58, chain3); 4 substeps of 2 iterations leave 1.15 cm per
-    // ragdoll, and of 1 iteration throw an elbow past 500 rad/s at the first impacts.
+    // The scene runs 4 substeps of 2 iterations with contact stacking (k = 10). With one
+    // substep of 4 iterations the pile presses forearms about 12 cm through the floor at the
+    // first impacts (measured: lowest centre -8.6 cm at frame 58, chain3); without stacking 4
+    // substeps of 2 iterations leave 1.15 cm per ragdoll (4 of 4 took 0.58 / 0.45 cm), and of
+    // 1 iteration throw an elbow past 500 rad/s at the first impacts.
     let settings = &lab.world.settings;
-    assert_eq!((settings.substeps, settings.iterations), (4, 4));
+    assert_eq!((settings.substeps, settings.iterations), (4, 2));
+    assert_eq!(settings.contact_stacking, 10.0);
     let mut lowest = f32::INFINITY;
     let mut observer = |lab: &Lab, _: &rodlab::metrics::FrameMetrics| {
         for r in &lab.ragdolls {
@@ -75,11 +78,12 @@ fn the_scene_builds_a_thousand_ragdolls_and_its_world() {
 
 /// The whole 10 s for both spines (about 25 s each): no NaN or explosion (`sim::run` stops
 /// with an error), nothing through the floor, and the scene's cost keeping the mean
-/// dislocation under 1 cm per ragdoll (measured 0.57 cm chain3, 0.45 cm rod). Under the pile a
-/// limb can be pressed into the floor by most of its 4 cm radius (measured: lowest centre
-/// +1.0 cm chain3, +1.6 cm rod; -5.3 cm with rod before contact impulses moved to fixed lever
-/// arms; a chaotic sample that moves with any rounding change), so "through" means a centre
-/// more than 10 cm below it.
+/// dislocation under 1 cm per ragdoll (measured 0.82 cm chain3, 0.64 cm rod; 0.57 / 0.45 cm at
+/// the scene's earlier 4 x 4 without stacking). Under the pile a limb can be pressed into the
+/// floor by most of its 4 cm radius (measured: lowest centre +2.2 cm chain3, +3.1 cm rod; +1.0
+/// / +1.6 cm at 4 x 4; -5.3 cm with rod before contact impulses moved to fixed lever arms; a
+/// chaotic sample that moves with any rounding change), so "through" means a centre more than
+/// 10 cm below it.
 #[test]
 fn ten_seconds_of_rain_stay_finite_on_the_floor_and_under_a_centimetre() {
     for spine in [SpineKind::Chain3, SpineKind::Rod] {
