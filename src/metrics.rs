@@ -74,7 +74,7 @@ impl FrameMetrics {
         self.max_overlap_cm = match world.settings.contacts {
             true => {
                 let (bodies, constraints) = (&world.bodies, &world.constraints);
-                100.0 * (self.overlap_probe).deepest_overlap(bodies, constraints, world.settings.dt)
+                100.0 * self.overlap_probe.deepest_overlap(bodies, constraints)
             }
             false => 0.0,
         };

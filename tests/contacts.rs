@@ -1230,7 +1230,7 @@ fn the_overlap_found_afresh_sees_what_the_points_miss() {
         let (bodies, constraints) = (&world.bodies, &world.constraints);
         (
             world.contacts.max_penetration(bodies),
-            probe.deepest_overlap(bodies, constraints, world.settings.dt),
+            probe.deepest_overlap(bodies, constraints),
         )
     };
     let (points, afresh) = measure(&world);
