@@ -32,11 +32,11 @@ fn recording_holds_body_poses_for_every_frame() {
     for (entity, component) in [
         ("world/chain3/capsules", "translations"),
         ("world/chain3/capsules", "quaternions"),
-        ("metrics/dislocation_cm/chain3", "scalars"),
+        ("metrics/dislocation_cm", "scalars"),
         // the rod spine's centerline, material frames, scalars and bones
         ("world/rod/rod/spine_rod/centerline", "strips"),
         ("world/rod/rod/spine_rod/frames", "vectors"),
-        ("metrics/rod/rod/spine_rod/psi", "scalars"),
+        ("metrics/rod/psi", "scalars"),
         ("world/rod/bones/arc", "strips"),
     ] {
         assert_eq!(
@@ -49,6 +49,21 @@ fn recording_holds_body_poses_for_every_frame() {
     assert!(chunks
         .iter()
         .any(|c| c.is_static() && c.entity_path().to_string() == "/world/chain3/capsules"));
+    // residuals: one series per ragdoll in one entity, named after it, both every frame
+    let names = static_texts(&chunks, "metrics/dislocation_cm", "names");
+    assert_eq!(names, ["chain3", "rod"]);
+    let widths: BTreeSet<usize> = (chunks.iter())
+        .filter(|c| !c.is_static() && c.entity_path().to_string() == "/metrics/dislocation_cm")
+        .flat_map(|c| {
+            let d = (c.component_descriptors())
+                .find(|d| d.component.as_str().ends_with("scalars"))
+                .unwrap();
+            c.iter_slices::<f64>(d.component)
+                .map(|values| values.iter().filter(|v| v.is_finite()).count())
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    assert_eq!(widths, BTreeSet::from([2]), "finite values per frame");
 }
 
 /// `rodlab run --record-from T` records only the frames from simulated time T on (the run
@@ -79,7 +94,7 @@ fn recording_from_a_time_keeps_only_the_later_frames() {
     let expected: BTreeSet<i64> = (30..=40).collect();
     for (entity, component) in [
         ("world/chain3/capsules", "translations"),
-        ("metrics/dislocation_cm/chain3", "scalars"),
+        ("metrics/dislocation_cm", "scalars"),
     ] {
         assert_eq!(
             frames_with(&chunks, entity, component),
@@ -239,7 +254,7 @@ fn sigterm_stops_at_a_frame_prints_the_summary_and_finishes_the_recording() {
             "run",
             concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/ragdoll_drop.toml"),
         ])
-        .args(["--spine", "rod", "--frames", "600000", "--save"])
+        .args(["--spine", "rod", "--frames", "600000", "--record-every", "1", "--save"])
         .arg(&path)
         .stdout(std::process::Stdio::piped())
         .spawn()
@@ -297,8 +312,8 @@ fn record_every_keeps_every_nth_frame() {
     let expected: BTreeSet<i64> = (0..=40).filter(|f| f % 3 == 0).collect();
     for (entity, component) in [
         ("world/rod/capsules", "translations"),
-        ("metrics/dislocation_cm/rod", "scalars"),
-        ("metrics/rod/rod/spine_rod/psi", "scalars"),
+        ("metrics/dislocation_cm", "scalars"),
+        ("metrics/rod/psi", "scalars"),
     ] {
         assert_eq!(
             frames_with(&chunks, entity, component),

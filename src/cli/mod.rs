@@ -712,16 +712,18 @@ fn peer_rows(
 fn feature_costs(scene: &Scene, out: &Path) -> anyhow::Result<()> {
     let frames = scene.def.frames.min(300);
     let mut costs = crate::sweep::feature_costs(scene, frames)?;
-    // recording: a whole run with the recorder against one without, per frame
+    // recording: a whole run recorded against the same run (measured and printed alike, the
+    // file opened, its static data written and closed) that records no frame
     let mut short = scene.clone();
     short.def.frames = frames;
-    let started = std::time::Instant::now();
-    sim::run(&mut short.build()?, frames, &mut sim::NoObserver)?;
-    let headless = started.elapsed().as_secs_f64() * 1e6 / frames as f64;
     let scratch = std::env::temp_dir().join(format!("rodlab_cost_{}.rrd", scene.name()));
-    let started = std::time::Instant::now();
-    record_scene(&short, record::save_to(&scratch, &short)?)?;
-    let recorded = started.elapsed().as_secs_f64() * 1e6 / frames as f64;
+    let time_run = |from: f32| -> anyhow::Result<f64> {
+        let started = std::time::Instant::now();
+        record_scene_from(&short, record::save_to(&scratch, &short)?, from)?;
+        Ok(started.elapsed().as_secs_f64() * 1e6 / frames as f64)
+    };
+    let headless = time_run(f32::INFINITY)?;
+    let recorded = time_run(0.0)?;
     std::fs::remove_file(&scratch).ok();
     costs.push(crate::sweep::FeatureCost {
         feature: "recording (whole frame)",
@@ -995,10 +997,13 @@ fn run_one(
     save_path: Option<&Path>,
 ) -> anyhow::Result<()> {
     let name = scene.name();
-    let (rec, _serve_guard, out) = if sink_given {
+    let (rec, _serve_guard, out) = if let Some(path) = save_path {
+        // ours rather than `RerunArgs`' file sink: the same writer as the main job's
+        (record::save_to(path, scene)?, Default::default(), Some(path.to_path_buf()))
+    } else if sink_given {
         let (rec, guard) =
             rerun_args.init_with_blueprint(record::APPLICATION_ID, record::blueprint(scene))?;
-        (rec, guard, save_path.map(Path::to_path_buf))
+        (rec, guard, None)
     } else {
         let out = Path::new("recordings").join(format!("{name}.rrd"));
         eprintln!("recording to {}", out.display());

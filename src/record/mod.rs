@@ -29,28 +29,31 @@ use rerun::blueprint::{
 use rerun::RecordingStream;
 
 use crate::body::BodyId;
-use crate::constraint::Constraint;
 use crate::lab::Lab;
 use crate::math::{Quat, Vec3};
-use crate::metrics::FrameMetrics;
-use crate::ragdoll::SpineKind;
-use crate::scene::{RecordDef, Scene};
+use crate::scene::Scene;
 use crate::shape::Shape;
-use crate::sim::Observer;
-use crate::skeleton::BoneMethod;
-use crate::world::{SimulationError, World};
+use crate::world::World;
 
 mod columns;
+mod recorder;
+mod tracks;
 pub mod tune;
 
-use columns::ScalarColumns;
+pub use recorder::Recorder;
+
+use tracks::TrackKind;
 
 /// Application id of every rodlab recording.
 pub const APPLICATION_ID: &str = "rodlab";
 
-/// Flush the sink once this much wall time or simulated time (s) has passed since the last
-/// flush, whichever comes first, so a killed run loses at most that much of either.
+/// Flush the sink once this much simulated time (s) has passed since the last flush, so a
+/// killed run loses at most that much of the simulation; chunks then fall on the same frames
+/// on every machine.
 const FLUSH_EVERY_S: f64 = 1.0;
+/// ... or this much wall time (s), so a slow run (many ragdolls) also shows up in the file as
+/// it goes. Each flush cuts a chunk per entity, so not more often.
+const FLUSH_WALL_S: f64 = 5.0;
 /// A flush that takes longer than this (s) fails the run instead of hanging it: the file
 /// writer has died or stalled (a full disk, a vanished file system).
 const FLUSH_TIMEOUT_S: u64 = 10;
@@ -112,13 +115,21 @@ fn create_parent(path: &Path) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Opens a recording of `scene` that writes to `path` (creating its folder), with its blueprint.
+/// Opens a recording of `scene` that writes to `path` (creating its folder), with its blueprint
+/// (and the footer unless `[record] footer = false`).
 pub fn save_to(path: &Path, scene: &Scene) -> anyhow::Result<RecordingStream> {
     create_parent(path)?;
     let rec = rerun::RecordingStreamBuilder::new(APPLICATION_ID)
         .recording_name(scene.name())
-        .with_blueprint(blueprint(scene))
-        .save(path)?;
+        .with_blueprint(blueprint(scene));
+    let rec = if scene.def.record.footer {
+        rec.save(path)?
+    } else {
+        let options = rerun::sink::FileSinkOptions {
+            write_footer: false,
+        };
+        rec.set_sinks((rerun::sink::FileSink::with_options(path, options)?,))?
+    };
     Ok(rec)
 }
 
@@ -294,25 +305,66 @@ fn log_shapes(
     Ok(())
 }
 
-/// A batch's poses this frame (and its colours, if any changed).
+/// The drawn pose of each of a batch's shapes: centre (a capsule's first cap centre) and
+/// rotation (xyzw).
+fn shape_poses<'a>(
+    world: &'a World,
+    batch: &'a BodyBatch,
+) -> impl Iterator<Item = ([f32; 3], [f32; 4])> + 'a {
+    (batch.bodies.iter().zip(&batch.local_offsets)).map(|(&id, &(offset, axis_rotation))| {
+        let body = world.body(id);
+        let centre = body.position + body.orientation * offset;
+        (centre.to_array(), (body.orientation * axis_rotation).to_array())
+    })
+}
+
+/// The kind of track a batch's poses go to.
+fn pose_track_kind(world: &World, batch: &BodyBatch) -> TrackKind {
+    match world.body(batch.bodies[0]).shape {
+        Shape::Capsule { .. } => TrackKind::Capsules,
+        Shape::Sphere { .. } => TrackKind::Ellipsoids,
+        Shape::Cuboid { .. } | Shape::HalfSpace => TrackKind::Boxes,
+    }
+}
+
+/// A batch's colours (after a sleep state changed), at the current frame.
+fn log_colors(
+    rec: &RecordingStream,
+    world: &World,
+    batch: &BodyBatch,
+    colors: Vec<rerun::Color>,
+) -> anyhow::Result<()> {
+    let entity = batch.entity.as_str();
+    match pose_track_kind(world, batch) {
+        TrackKind::Capsules => {
+            rec.log(entity, &rerun::Capsules3D::update_fields().with_colors(colors))?
+        }
+        TrackKind::Ellipsoids => {
+            rec.log(entity, &rerun::Ellipsoids3D::update_fields().with_colors(colors))?
+        }
+        _ => rec.log(entity, &rerun::Boxes3D::update_fields().with_colors(colors))?,
+    }
+    Ok(())
+}
+
+/// A batch's poses this frame, logged at once (and its colours, if any changed).
 fn log_poses(
     rec: &RecordingStream,
     world: &World,
     batch: &mut BodyBatch,
     colors: Vec<rerun::Color>,
 ) -> anyhow::Result<()> {
-    batch.translations.clear();
-    batch.rotations.clear();
-    for (&id, &(offset, axis_rotation)) in batch.bodies.iter().zip(&batch.local_offsets) {
-        let body = world.body(id);
-        batch
-            .translations
-            .push((body.position + body.orientation * offset).to_array());
-        let q = body.orientation * axis_rotation;
-        batch
-            .rotations
-            .push(rerun::Quaternion::from_xyzw(q.to_array()));
+    let (mut translations, mut rotations) = (
+        std::mem::take(&mut batch.translations),
+        std::mem::take(&mut batch.rotations),
+    );
+    translations.clear();
+    rotations.clear();
+    for (centre, rotation) in shape_poses(world, batch) {
+        translations.push(centre);
+        rotations.push(rerun::Quaternion::from_xyzw(rotation));
     }
+    (batch.translations, batch.rotations) = (translations, rotations);
     let entity = batch.entity.as_str();
     match world.body(batch.bodies[0]).shape {
         Shape::Capsule { .. } => rec.log(
@@ -345,409 +397,6 @@ fn log_poses(
         )?,
     }
     Ok(())
-}
-
-/// Streams a lab (its world and ragdolls) into a Rerun recording; plugs into [`crate::sim::run`] as its observer.
-pub struct Recorder {
-    rec: RecordingStream,
-    options: RecordDef,
-    batches: Vec<BodyBatch>,
-    /// Per joint group: entity and constraint indices.
-    joint_groups: Vec<(String, Vec<usize>)>,
-    anchor_buffer: Vec<[f32; 3]>,
-    metric_paths: Vec<(String, String, String)>,
-    /// Per rod constraint: (constraint index, world entity prefix, metrics prefix).
-    rods: Vec<(usize, String, String)>,
-    /// Scratch for arcs and frames.
-    points: Vec<[f32; 3]>,
-    arrows: Vec<[f32; 3]>,
-    arrow_origins: Vec<[f32; 3]>,
-    arrow_colors: Vec<rerun::Color>,
-    /// When the sink was last flushed: wall clock and simulated time (s).
-    flushed_at: (std::time::Instant, f64),
-    /// Every scalar series, sent as columns at each flush.
-    scalars: ScalarColumns,
-}
-
-/// Points sampled along each rod's centerline.
-const CENTERLINE_SAMPLES: usize = 24;
-/// Material frames drawn along each rod.
-const FRAME_SAMPLES: usize = 7;
-
-fn group_of(lab: &Lab, body: BodyId) -> String {
-    lab.ragdoll_of(body)
-        .map_or_else(|| "props".to_string(), |r| r.name.clone())
-}
-
-fn spine_color(spine: SpineKind) -> rerun::Color {
-    // Fig. 8 colours: three-joint spine blue, rod red; single joint green.
-    match spine {
-        SpineKind::Chain3 => rerun::Color::from_rgb(60, 110, 220),
-        SpineKind::Rod => rerun::Color::from_rgb(220, 60, 50),
-        SpineKind::Single => rerun::Color::from_rgb(60, 170, 90),
-    }
-}
-
-impl Recorder {
-    pub fn new(rec: RecordingStream, lab: &Lab, scene: &Scene) -> anyhow::Result<Self> {
-        let world = &lab.world;
-        rec.set_log_time_enabled(false);
-        let batches = body_batches(lab, |id| format!("world/{}", group_of(lab, id)));
-        let mut joint_groups: Vec<(String, Vec<usize>)> = Vec::new();
-        for (i, c) in world.constraints.iter().enumerate() {
-            if matches!(c, Constraint::BallSocket(_)) {
-                let entity = format!("world/{}/joints", group_of(lab, c.bodies().0));
-                match joint_groups.iter_mut().find(|(e, _)| *e == entity) {
-                    Some((_, list)) => list.push(i),
-                    None => joint_groups.push((entity, vec![i])),
-                }
-            }
-        }
-        let rods = world
-            .constraints
-            .iter()
-            .enumerate()
-            .filter_map(|(i, c)| match c {
-                Constraint::Rod(rod) => {
-                    let group = group_of(lab, rod.body_a);
-                    let short = rod.name.rsplit('/').next().unwrap_or(&rod.name).to_string();
-                    Some((
-                        i,
-                        format!("world/{group}/rod/{short}"),
-                        format!("metrics/rod/{group}/{short}"),
-                    ))
-                }
-                _ => None,
-            })
-            .collect();
-        let metric_paths = lab
-            .ragdolls
-            .iter()
-            .map(|r| {
-                (
-                    format!("metrics/dislocation_cm/{}", r.name),
-                    format!("metrics/angular_rad/{}", r.name),
-                    format!("metrics/pose_deviation_cm/{}", r.name),
-                )
-            })
-            .collect();
-        let mut recorder = Recorder {
-            rec,
-            options: scene.def.record.clone(),
-            batches,
-            joint_groups,
-            anchor_buffer: Vec::new(),
-            metric_paths,
-            rods,
-            points: Vec::new(),
-            arrows: Vec::new(),
-            arrow_origins: Vec::new(),
-            arrow_colors: Vec::new(),
-            flushed_at: (std::time::Instant::now(), 0.0),
-            scalars: ScalarColumns::default(),
-        };
-        recorder.log_static(lab, scene)?;
-        Ok(recorder)
-    }
-
-    pub fn stream(&self) -> &RecordingStream {
-        &self.rec
-    }
-
-    /// After a whole run: its final state hash (`state_hash`, static text), then a flush.
-    pub fn finish(&mut self, report: &crate::sim::RunReport) -> anyhow::Result<()> {
-        self.rec.log_static(
-            "state_hash",
-            &rerun::TextDocument::new(format!("{:016x}", report.state_hash)),
-        )?;
-        self.scalars.send(&self.rec)?;
-        flush(&self.rec)
-    }
-
-    fn log_static(&mut self, lab: &Lab, scene: &Scene) -> anyhow::Result<()> {
-        let world = &lab.world;
-        let rec = &self.rec;
-        rec.log_static("world", &rerun::ViewCoordinates::RIGHT_HAND_Y_UP())?;
-        let text = format!(
-            "# {}\n\n`{}`\n\n```toml\n{}\n```\n",
-            scene.name(),
-            scene.path.display(),
-            scene.text
-        );
-        rec.log_static("scene", &rerun::TextDocument::from_markdown(text))?;
-        // Half-spaces: a 10 m square slab under each plane.
-        for body in world
-            .bodies
-            .iter()
-            .filter(|b| matches!(b.shape, Shape::HalfSpace))
-        {
-            let normal = body.orientation * Vec3::Y;
-            rec.log_static(
-                format!("world/static/{}", body.name),
-                &rerun::Boxes3D::from_centers_and_half_sizes(
-                    [(body.position - 0.01 * normal).to_array()],
-                    [[5.0, 0.01, 5.0]],
-                )
-                .with_quaternions([rerun::Quaternion::from_xyzw(body.orientation.to_array())])
-                .with_colors([rerun::Color::from_rgb(150, 150, 140)])
-                .with_fill_mode(rerun::components::FillMode::Solid),
-            )?;
-        }
-        // Ground grid reference: a thin floor outline at y = 0.
-        rec.log_static(
-            "world/floor",
-            &rerun::Boxes3D::from_centers_and_half_sizes([[0.0, -0.005, 0.0]], [[3.0, 0.005, 3.0]])
-                .with_colors([rerun::Color::from_rgb(120, 120, 120)]),
-        )?;
-        for batch in &mut self.batches {
-            let color_of = |id: BodyId| {
-                let body = world.body(id);
-                match (body.is_dynamic(), lab.ragdoll_of(id)) {
-                    (false, _) => rerun::Color::from_rgb(110, 110, 110),
-                    (true, Some(r)) => spine_color(r.spine),
-                    (true, None) => rerun::Color::from_rgb(200, 160, 60),
-                }
-            };
-            let mut colors: Vec<_> = batch.bodies.iter().map(|&id| color_of(id)).collect();
-            if world.settings.sleep {
-                // per frame instead: static data would shadow the sleep colours
-                batch.colors = std::mem::take(&mut colors);
-            }
-            log_shapes(rec, world, batch, colors)?;
-        }
-        for (r, paths) in lab.ragdolls.iter().zip(&self.metric_paths) {
-            let style = rerun::SeriesLines::new()
-                .with_colors([spine_color(r.spine)])
-                .with_names([r.name.as_str()]);
-            for path in [&paths.0, &paths.1, &paths.2] {
-                rec.log_static(path.as_str(), &style)?;
-            }
-        }
-        Ok(())
-    }
-
-    fn log_frame(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()> {
-        let world = &lab.world;
-        if world.frame % self.options.every.max(1) as u64 != 0 {
-            return Ok(()); // `[record] every = N`: frames 0, N, 2N, ...
-        }
-        let rec = &self.rec;
-        rec.set_time_sequence("frame", world.frame as i64);
-        rec.set_duration_secs("sim_time", world.time);
-        self.scalars.at(world.frame as i64, world.time);
-        if self.options.bodies {
-            for batch in &mut self.batches {
-                let colors = sleep_colors(batch, world);
-                log_poses(rec, world, batch, colors)?;
-            }
-        }
-        if self.options.joints {
-            for (entity, constraints) in &self.joint_groups {
-                self.anchor_buffer.clear();
-                for &i in constraints {
-                    if let Constraint::BallSocket(joint) = &world.constraints[i] {
-                        let (a, b) =
-                            joint.world_anchors(world.body(joint.body_a), world.body(joint.body_b));
-                        self.anchor_buffer.push(a.to_array());
-                        self.anchor_buffer.push(b.to_array());
-                    }
-                }
-                rec.log(
-                    entity.as_str(),
-                    &rerun::Points3D::new(self.anchor_buffer.iter().copied())
-                        .with_radii([0.012])
-                        .with_colors([rerun::Color::from_rgb(250, 200, 40)]),
-                )?;
-            }
-        }
-        if self.options.residuals {
-            for ((dislocation, angular, deviation), residual) in
-                self.metric_paths.iter().zip(&metrics.ragdolls)
-            {
-                self.scalars
-                    .push(deviation.as_str(), residual.pose_deviation_cm as f64);
-                self.scalars
-                    .push(dislocation.as_str(), residual.dislocation_cm as f64);
-                self.scalars
-                    .push(angular.as_str(), residual.angular_rad as f64);
-            }
-        }
-        if self.options.rods {
-            self.log_rods(world, metrics)?;
-        }
-        self.log_contacts(lab, metrics)?;
-        if self.options.bones {
-            self.log_bones(lab, metrics)?;
-        }
-        if self.options.energy {
-            self.scalars
-                .push("metrics/energy/kinetic", metrics.kinetic_energy as f64);
-            self.scalars
-                .push("metrics/energy/potential", metrics.potential_energy as f64);
-            self.scalars
-                .push("metrics/energy/total", metrics.total_energy() as f64);
-        }
-        if world.settings.sleep {
-            self.scalars
-                .push("metrics/awake_bodies", world.awake_bodies as f64);
-        }
-        let (wall, simulated) = self.flushed_at;
-        if wall.elapsed().as_secs_f64() >= FLUSH_EVERY_S || world.time - simulated >= FLUSH_EVERY_S
-        {
-            self.scalars.send(&self.rec)?;
-            flush(&self.rec)?;
-            self.flushed_at = (std::time::Instant::now(), world.time);
-        }
-        Ok(())
-    }
-}
-
-impl Recorder {
-    /// Per rod: centerline (LineStrips3D), material frames (Arrows3D), and its scalars.
-    fn log_rods(&mut self, world: &World, metrics: &FrameMetrics) -> anyhow::Result<()> {
-        for ((index, entity, metric), state) in self.rods.iter().zip(&metrics.rods) {
-            let Constraint::Rod(rod) = &world.constraints[*index] else {
-                continue;
-            };
-            let (a, b) = (world.body(rod.body_a), world.body(rod.body_b));
-            self.points.clear();
-            for i in 0..CENTERLINE_SAMPLES {
-                let s = i as f32 / (CENTERLINE_SAMPLES - 1) as f32;
-                self.points.push(rod.sample(a, b, s).0.to_array());
-            }
-            self.rec.log(
-                format!("{entity}/centerline"),
-                &rerun::LineStrips3D::new([self.points.iter().copied()])
-                    .with_radii([0.008])
-                    .with_colors([rerun::Color::from_rgb(250, 140, 40)]),
-            )?;
-            self.arrows.clear();
-            self.arrow_origins.clear();
-            self.arrow_colors.clear();
-            for i in 0..FRAME_SAMPLES {
-                let s = i as f32 / (FRAME_SAMPLES - 1) as f32;
-                let (point, frame) = rod.sample(a, b, s);
-                for (axis, color) in [
-                    (Vec3::Y, rerun::Color::from_rgb(230, 60, 60)),
-                    (Vec3::Z, rerun::Color::from_rgb(60, 200, 90)),
-                ] {
-                    self.arrow_origins.push(point.to_array());
-                    self.arrows.push((0.06 * (frame * axis)).to_array());
-                    self.arrow_colors.push(color);
-                }
-            }
-            self.rec.log(
-                format!("{entity}/frames"),
-                &rerun::Arrows3D::from_vectors(self.arrows.iter().copied())
-                    .with_origins(self.arrow_origins.iter().copied())
-                    .with_colors(self.arrow_colors.iter().copied()),
-            )?;
-            for (name, value) in [
-                ("psi", state.psi),
-                ("tau", state.tau),
-                ("length_violation_cm", 100.0 * state.length_error),
-                ("curve_violation_rad", state.curve_error),
-            ] {
-                self.scalars.push(&format!("{metric}/{name}"), value as f64);
-            }
-        }
-        Ok(())
-    }
-
-    /// Contact points and normals (a scene switch), the deepest penetration at the points and
-    /// found afresh, and, with many ragdolls, the residuals summed over all of them.
-    fn log_contacts(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()> {
-        let world = &lab.world;
-        if world.settings.contacts {
-            self.scalars
-                .push("metrics/penetration_cm", metrics.max_penetration_cm as f64);
-            self.scalars
-                .push("metrics/overlap_cm", metrics.max_overlap_cm as f64);
-        }
-        if lab.ragdolls.len() > 2 {
-            let (dislocation, angular) = metrics.totals();
-            self.scalars
-                .push("metrics/total/dislocation_cm", dislocation as f64);
-            self.scalars
-                .push("metrics/total/angular_rad", angular as f64);
-        }
-        if !self.options.contacts {
-            return Ok(());
-        }
-        self.points.clear();
-        self.arrows.clear();
-        for p in &world.contacts.points {
-            self.points
-                .push(world.body(p.body_b).world_point(p.local_b).to_array());
-            self.arrows.push((0.05 * p.normal).to_array());
-        }
-        self.rec.log(
-            "world/contacts",
-            &rerun::Arrows3D::from_vectors(self.arrows.iter().copied())
-                .with_origins(self.points.iter().copied())
-                .with_colors([rerun::Color::from_rgb(255, 80, 200)]),
-        )?;
-        Ok(())
-    }
-
-    /// Animation bones per ragdoll and mapping method, with their errors.
-    fn log_bones(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()> {
-        for &(ragdoll_index, method, error) in &metrics.bones {
-            let ragdoll = &lab.ragdolls[ragdoll_index];
-            let Some(skeleton) = &ragdoll.skeleton else {
-                continue;
-            };
-            let bones = skeleton.pose(&lab.world, method);
-            self.rec.log(
-                format!("world/{}/bones/{}", ragdoll.name, method.name()),
-                &rerun::LineStrips3D::new([bones.origins.iter().map(|p| p.to_array())])
-                    .with_radii([0.006])
-                    .with_colors([bone_color(method)]),
-            )?;
-            let metric = format!("metrics/bones/{}/{}", ragdoll.name, method.name());
-            self.scalars
-                .push(&format!("{metric}/length_error_cm"), error.length_cm as f64);
-            self.scalars
-                .push(&format!("{metric}/chest_gap_cm"), error.chest_gap_cm as f64);
-        }
-        Ok(())
-    }
-}
-
-fn bone_color(method: BoneMethod) -> rerun::Color {
-    match method {
-        BoneMethod::Rigid => rerun::Color::from_rgb(240, 240, 240),
-        BoneMethod::Orientation => rerun::Color::from_rgb(250, 220, 60),
-        BoneMethod::OrientationPosition => rerun::Color::from_rgb(60, 220, 250),
-        BoneMethod::Arc => rerun::Color::from_rgb(250, 90, 200),
-    }
-}
-
-impl Observer for Recorder {
-    fn begin(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()> {
-        self.log_frame(lab, metrics)
-    }
-
-    fn frame(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()> {
-        self.log_frame(lab, metrics)
-    }
-
-    fn failed(&mut self, lab: &Lab, error: &SimulationError) {
-        self.rec.set_time_sequence("frame", lab.world.frame as i64);
-        let text = format!("# Run stopped\n\n{error}\n");
-        let _ = self
-            .rec
-            .log("failure", &rerun::TextDocument::from_markdown(text));
-        let _ = self.scalars.send(&self.rec);
-        let _ = flush(&self.rec);
-    }
-}
-
-impl Drop for Recorder {
-    fn drop(&mut self) {
-        let _ = self.scalars.send(&self.rec);
-        let _ = flush(&self.rec);
-    }
 }
 
 /// Records the kinematics comparison (Fig. 6): the three end loci as static line strips, and per

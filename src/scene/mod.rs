@@ -486,6 +486,12 @@ pub struct RecordDef {
     /// Record every N-th frame (frames 0, N, 2N, ...); 1 records them all.
     #[serde(default = "one")]
     pub every: u32,
+    /// End the file with Rerun's footer, a manifest of every chunk (`rerun rrd verify` wants
+    /// it; the viewer seeks with it). The writer keeps about 1.4 kB per chunk in memory until
+    /// the file closes, one chunk per entity per second: `false` keeps a long run's memory
+    /// flat, and `rerun rrd optimize` adds the footer afterwards.
+    #[serde(default = "yes")]
+    pub footer: bool,
 }
 
 fn one() -> u32 {
@@ -503,6 +509,7 @@ impl Default for RecordDef {
             contacts: false,
             rods: true,
             bones: true,
+            footer: true,
         }
     }
 }
