@@ -8,10 +8,11 @@
 //! - `world/<ragdoll>/rod/<rod>/centerline` (LineStrips3D, gamma(s) sampled, ends at the body
 //!   centres) and `.../frames` (Arrows3D: material normal and binormal along the arc);
 //! - `world/<ragdoll>/bones/<method>`: the animation bones (LineStrips3D through their origins);
-//! - `metrics/rod/<ragdoll>/<rod>/{psi,tau,length_violation_cm,curve_violation_rad}`;
-//! - `metrics/bones/<ragdoll>/<method>/{length_error_cm,chest_gap_cm}`;
-//! - `metrics/dislocation_cm/<ragdoll>`, `metrics/angular_rad/<ragdoll>`: residual scalars, one
-//!   plot per measure with one series per ragdoll so spines compare in one plot;
+//! - `metrics/rod/{psi,tau,length_violation_cm,curve_violation_rad}`: one instance per rod;
+//! - `metrics/bones/<method>/{length_error_cm,chest_gap_cm}`: one instance per ragdoll;
+//! - `metrics/dislocation_cm`, `metrics/angular_rad`, `metrics/pose_deviation_cm`: residual
+//!   scalars, one entity per measure with one instance (a named line) per ragdoll, so spines
+//!   compare in one plot;
 //! - `metrics/energy/{kinetic,potential,total}`: energy (J);
 //! - `metrics/awake_bodies`: dynamic bodies awake, with sleeping on (sleeping bodies are drawn
 //!   in their colour faded toward grey);
@@ -19,6 +20,9 @@
 //!   `state_hash`: the final state's hash (static text, 16 hex digits) after a whole run.
 //!
 //! Timelines: `frame` (sequence, 0 = initial state) and `sim_time` (seconds).
+//!
+//! Per-frame data is buffered and sent once per simulated second, one chunk per entity
+//! (`recorder`, `tracks`, `columns`); static data is logged once.
 
 use std::path::Path;
 
