@@ -254,7 +254,15 @@ fn sigterm_stops_at_a_frame_prints_the_summary_and_finishes_the_recording() {
             "run",
             concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/ragdoll_drop.toml"),
         ])
-        .args(["--spine", "rod", "--frames", "600000", "--record-every", "1", "--save"])
+        .args([
+            "--spine",
+            "rod",
+            "--frames",
+            "600000",
+            "--record-every",
+            "1",
+            "--save",
+        ])
         .arg(&path)
         .stdout(std::process::Stdio::piped())
         .spawn()

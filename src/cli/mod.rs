@@ -999,7 +999,11 @@ fn run_one(
     let name = scene.name();
     let (rec, _serve_guard, out) = if let Some(path) = save_path {
         // ours rather than `RerunArgs`' file sink: the same writer as the main job's
-        (record::save_to(path, scene)?, Default::default(), Some(path.to_path_buf()))
+        (
+            record::save_to(path, scene)?,
+            Default::default(),
+            Some(path.to_path_buf()),
+        )
     } else if sink_given {
         let (rec, guard) =
             rerun_args.init_with_blueprint(record::APPLICATION_ID, record::blueprint(scene))?;

@@ -9,20 +9,20 @@ use std::collections::HashMap;
 
 use rerun::RecordingStream;
 
-use super::columns::ScalarColumns;
-use super::tracks::{Track, TrackKind};
-use super::{
-    body_batches, flush, log_colors, log_shapes, pose_track_kind, shape_poses, sleep_colors,
-    BodyBatch, FLUSH_EVERY_S, FLUSH_WALL_S,
+use super::bodies::{
+    body_batches, log_colors, log_ground, log_shapes, pose_track_kind, shape_poses, sleep_colors,
+    BodyBatch,
 };
+use super::columns::ScalarColumns;
+use super::style::{bone_color, spine_color, strip_style};
+use super::tracks::{Track, TrackKind};
+use super::{flush, FLUSH_EVERY_S, FLUSH_WALL_S};
 use crate::body::BodyId;
 use crate::constraint::Constraint;
 use crate::lab::Lab;
 use crate::math::Vec3;
 use crate::metrics::FrameMetrics;
-use crate::ragdoll::SpineKind;
 use crate::scene::{RecordDef, Scene};
-use crate::shape::Shape;
 use crate::sim::Observer;
 use crate::skeleton::BoneMethod;
 use crate::world::{SimulationError, World};
@@ -89,31 +89,6 @@ fn group_of(lab: &Lab, body: BodyId) -> String {
         .map_or_else(|| "props".to_string(), |r| r.name.clone())
 }
 
-pub(super) fn spine_color(spine: SpineKind) -> rerun::Color {
-    // Fig. 8 colours: three-joint spine blue, rod red; single joint green.
-    match spine {
-        SpineKind::Chain3 => rerun::Color::from_rgb(60, 110, 220),
-        SpineKind::Rod => rerun::Color::from_rgb(220, 60, 50),
-        SpineKind::Single => rerun::Color::from_rgb(60, 170, 90),
-    }
-}
-
-fn bone_color(method: BoneMethod) -> rerun::Color {
-    match method {
-        BoneMethod::Rigid => rerun::Color::from_rgb(240, 240, 240),
-        BoneMethod::Orientation => rerun::Color::from_rgb(250, 220, 60),
-        BoneMethod::OrientationPosition => rerun::Color::from_rgb(60, 220, 250),
-        BoneMethod::Arc => rerun::Color::from_rgb(250, 90, 200),
-    }
-}
-
-/// Static style of a line-strip entity.
-fn strip_style(radius: f32, color: rerun::Color) -> rerun::LineStrips3D {
-    rerun::LineStrips3D::update_fields()
-        .with_radii([radius])
-        .with_colors([color])
-}
-
 impl Recorder {
     pub fn new(rec: RecordingStream, lab: &Lab, scene: &Scene) -> anyhow::Result<Self> {
         let world = &lab.world;
@@ -150,7 +125,8 @@ impl Recorder {
         let mut scalars = ScalarColumns::default();
         let ragdolls = lab.ragdolls.len();
         let residuals = RESIDUAL_SERIES.map(|path| scalars.series(path, ragdolls));
-        let rod_series = ROD_SERIES.map(|name| scalars.series(&format!("metrics/rod/{name}"), rods.len()));
+        let rod_series =
+            ROD_SERIES.map(|name| scalars.series(&format!("metrics/rod/{name}"), rods.len()));
         let mut recorder = Recorder {
             rec,
             options: scene.def.record.clone(),
@@ -186,7 +162,11 @@ impl Recorder {
     /// Sends every buffered track and scalar series, one chunk each.
     fn send(&mut self) -> anyhow::Result<()> {
         let rec = &self.rec;
-        for track in self.poses.iter_mut().chain(self.joints.iter_mut().map(|(t, _)| t)) {
+        for track in self
+            .poses
+            .iter_mut()
+            .chain(self.joints.iter_mut().map(|(t, _)| t))
+        {
             track.send(rec)?;
         }
         for rod in &mut self.rods {
@@ -211,26 +191,7 @@ impl Recorder {
             scene.text
         );
         rec.log_static("scene", &rerun::TextDocument::from_markdown(text))?;
-        // Half-spaces: a 10 m square slab under each plane.
-        for body in (world.bodies.iter()).filter(|b| matches!(b.shape, Shape::HalfSpace)) {
-            let normal = body.orientation * Vec3::Y;
-            rec.log_static(
-                format!("world/static/{}", body.name),
-                &rerun::Boxes3D::from_centers_and_half_sizes(
-                    [(body.position - 0.01 * normal).to_array()],
-                    [[5.0, 0.01, 5.0]],
-                )
-                .with_quaternions([rerun::Quaternion::from_xyzw(body.orientation.to_array())])
-                .with_colors([rerun::Color::from_rgb(150, 150, 140)])
-                .with_fill_mode(rerun::components::FillMode::Solid),
-            )?;
-        }
-        // Ground grid reference: a thin floor outline at y = 0.
-        rec.log_static(
-            "world/floor",
-            &rerun::Boxes3D::from_centers_and_half_sizes([[0.0, -0.005, 0.0]], [[3.0, 0.005, 3.0]])
-                .with_colors([rerun::Color::from_rgb(120, 120, 120)]),
-        )?;
+        log_ground(rec, world)?;
         for batch in &mut self.batches {
             let color_of = |id: BodyId| {
                 let body = world.body(id);
@@ -355,8 +316,7 @@ impl Recorder {
             (self.scalars).push("metrics/awake_bodies", world.awake_bodies as f64);
         }
         let (wall, simulated) = self.flushed_at;
-        if world.time - simulated >= FLUSH_EVERY_S || wall.elapsed().as_secs_f64() >= FLUSH_WALL_S
-        {
+        if world.time - simulated >= FLUSH_EVERY_S || wall.elapsed().as_secs_f64() >= FLUSH_WALL_S {
             // Wait for the last block to be written (or the writer to fail) only now, a
             // second later: the writer encodes a block while the next second is simulated.
             flush(&self.rec)?;
@@ -376,7 +336,9 @@ impl Recorder {
             tracks.centerline.begin(frame, world.time);
             for i in 0..CENTERLINE_SAMPLES {
                 let s = i as f32 / (CENTERLINE_SAMPLES - 1) as f32;
-                tracks.centerline.push_point(rod.sample(a, b, s).0.to_array());
+                tracks
+                    .centerline
+                    .push_point(rod.sample(a, b, s).0.to_array());
             }
             tracks.frames.begin(frame, world.time);
             for i in 0..FRAME_SAMPLES {
@@ -384,7 +346,9 @@ impl Recorder {
                 let (point, material_frame) = rod.sample(a, b, s);
                 for axis in [Vec3::Y, Vec3::Z] {
                     let vector = FRAME_AXIS_LENGTH * (material_frame * axis);
-                    tracks.frames.push_arrow(point.to_array(), vector.to_array());
+                    tracks
+                        .frames
+                        .push_arrow(point.to_array(), vector.to_array());
                 }
             }
             let values = [
@@ -459,7 +423,10 @@ impl Recorder {
         }
         for (method, ragdolls) in methods {
             let series = |scalars: &mut ScalarColumns, name: &str| {
-                scalars.series(&format!("metrics/bones/{}/{name}", method.name()), ragdolls.len())
+                scalars.series(
+                    &format!("metrics/bones/{}/{name}", method.name()),
+                    ragdolls.len(),
+                )
             };
             let length_error = series(&mut self.scalars, "length_error_cm");
             let chest_gap = series(&mut self.scalars, "chest_gap_cm");
@@ -471,10 +438,19 @@ impl Recorder {
                 )?;
             }
             for (instance, &ragdoll) in ragdolls.iter().enumerate() {
-                let entity = format!("world/{}/bones/{}", lab.ragdolls[ragdoll].name, method.name());
+                let entity = format!(
+                    "world/{}/bones/{}",
+                    lab.ragdolls[ragdoll].name,
+                    method.name()
+                );
                 (self.rec).log_static(entity.as_str(), &strip_style(0.006, bone_color(method)))?;
                 let track = Track::new(entity, TrackKind::Strip);
-                let bones = BoneTrack { track, length_error, chest_gap, instance };
+                let bones = BoneTrack {
+                    track,
+                    length_error,
+                    chest_gap,
+                    instance,
+                };
                 self.bones.insert((ragdoll, method.name()), bones);
             }
         }

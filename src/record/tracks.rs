@@ -147,7 +147,9 @@ impl Track {
                 let strips: Vec<rerun::components::LineStrip3D> = (self.lengths.iter())
                     .map(|&n| {
                         start += n;
-                        rerun::components::LineStrip3D::from_iter(self.points[start - n..start].iter().copied())
+                        rerun::components::LineStrip3D::from_iter(
+                            self.points[start - n..start].iter().copied(),
+                        )
                     })
                     .collect();
                 rec.send_columns(

@@ -22,7 +22,8 @@ use rerun::blueprint::{
 };
 use rerun::RecordingStream;
 
-use super::{body_batches, create_parent, log_poses, log_shapes, BodyBatch, APPLICATION_ID};
+use super::bodies::{body_batches, log_poses, log_shapes, BodyBatch};
+use super::{create_parent, APPLICATION_ID};
 use crate::constraint::Constraint;
 use crate::lab::Lab;
 use crate::tune::{Copy, Trace, TuneRow};

@@ -1,0 +1,30 @@
+//! Colours and line styles shared by the recordings.
+
+use crate::ragdoll::SpineKind;
+use crate::skeleton::BoneMethod;
+
+/// A spine's colour (Fig. 8: three-joint spine blue, rod red; single joint green).
+pub(super) fn spine_color(spine: SpineKind) -> rerun::Color {
+    match spine {
+        SpineKind::Chain3 => rerun::Color::from_rgb(60, 110, 220),
+        SpineKind::Rod => rerun::Color::from_rgb(220, 60, 50),
+        SpineKind::Single => rerun::Color::from_rgb(60, 170, 90),
+    }
+}
+
+/// The colour of the bones posed by `method`.
+pub(super) fn bone_color(method: BoneMethod) -> rerun::Color {
+    match method {
+        BoneMethod::Rigid => rerun::Color::from_rgb(240, 240, 240),
+        BoneMethod::Orientation => rerun::Color::from_rgb(250, 220, 60),
+        BoneMethod::OrientationPosition => rerun::Color::from_rgb(60, 220, 250),
+        BoneMethod::Arc => rerun::Color::from_rgb(250, 90, 200),
+    }
+}
+
+/// Static style of a line-strip entity.
+pub(super) fn strip_style(radius: f32, color: rerun::Color) -> rerun::LineStrips3D {
+    rerun::LineStrips3D::update_fields()
+        .with_radii([radius])
+        .with_colors([color])
+}
