@@ -84,6 +84,8 @@ pub enum Command {
         #[arg(required = true)]
         scenes: Vec<PathBuf>,
     },
+    /// Lists the files the main job writes, one per line (what CI checks and archives).
+    Outputs,
 }
 
 #[derive(Debug, Clone, Args)]
@@ -382,19 +384,53 @@ fn dispatch_command(cli: Cli, matches: &ArgMatches) -> anyhow::Result<()> {
             run_one(&scene, record_from, &rerun, rerun_sink_given(sub), save)
         }
         Some(Command::Check { scenes }) => check(&scenes),
+        Some(Command::Outputs) => {
+            for file in main_job_outputs(Path::new("scenes"), Path::new("recordings"))? {
+                println!("{}", file.display());
+            }
+            Ok(())
+        }
         Some(Command::Tune(args)) => tune::tune(&args),
         Some(Command::Stress { out }) => stress(&out),
     }
 }
 
 /// The main job: every scene recorded, then the passive-bending sweep.
+/// Scenes the main job sweeps, besides recording every scene.
+const SWEPT_SCENES: [&str; 2] = ["passive_bending", "ragdoll_drop"];
+
+/// The files [`main_job`] writes: every scene's recordings (one per spine and variant), each
+/// swept scene's table, chart and recording and feature costs, the tuning grid and the stress
+/// table (the stress suite's recordings of unstable runs vary, and are not listed).
+fn main_job_outputs(scenes: &Path, out: &Path) -> anyhow::Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
+    for path in scene_files(scenes)? {
+        let scene = load_scene(&path, None, &Overrides::default())?;
+        for variant in variants(&scene, &Overrides::default())? {
+            files.push(out.join(format!("{}.rrd", variant.name())));
+        }
+    }
+    for name in SWEPT_SCENES {
+        for ext in ["csv", "svg", "png", "rrd"] {
+            files.push(out.join(format!("{name}_sweep.{ext}")));
+        }
+        files.push(out.join(format!("{name}_features.csv")));
+    }
+    for ext in ["rrd", "csv", "svg", "png"] {
+        files.push(out.join(format!("tune.{ext}")));
+    }
+    files.extend([out.join("stress.md"), out.join("stress.csv")]);
+    Ok(files)
+}
+
 fn main_job() -> anyhow::Result<()> {
     let (scenes, out) = (Path::new("scenes"), Path::new("recordings"));
     run_all(scenes, out, &Overrides::default())?;
     if stop::requested() {
         return Ok(());
     }
-    let path = scenes.join("passive_bending.toml");
+    let [bending, drop] = SWEPT_SCENES.map(|name| scenes.join(format!("{name}.toml")));
+    let path = bending;
     // the paper's one step a frame (the reference line) beside 4 substeps, on one cost axis
     let config = crate::sweep::SweepConfig {
         substeps: vec![1, 4],
@@ -418,13 +454,7 @@ fn main_job() -> anyhow::Result<()> {
         repeats: 1,
         ..Default::default()
     };
-    sweep(
-        &scenes.join("ragdoll_drop.toml"),
-        &config,
-        None,
-        Shard::ALL,
-        out,
-    )?;
+    sweep(&drop, &config, None, Shard::ALL, out)?;
     if stop::requested() {
         return Ok(());
     }
@@ -1027,9 +1057,10 @@ fn run_one(
     Ok(())
 }
 
-fn run_all(scenes_dir: &Path, out_dir: &Path, overrides: &Overrides) -> anyhow::Result<()> {
-    let mut paths: Vec<PathBuf> = std::fs::read_dir(scenes_dir)
-        .with_context(|| format!("cannot list scenes in {}", scenes_dir.display()))?
+/// The scene files (`*.toml`) in `dir`, sorted.
+fn scene_files(dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
+    let mut paths: Vec<PathBuf> = std::fs::read_dir(dir)
+        .with_context(|| format!("cannot list scenes in {}", dir.display()))?
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|e| e == "toml"))
         .collect();
@@ -1037,8 +1068,13 @@ fn run_all(scenes_dir: &Path, out_dir: &Path, overrides: &Overrides) -> anyhow::
     anyhow::ensure!(
         !paths.is_empty(),
         "no scene files (*.toml) in {}",
-        scenes_dir.display()
+        dir.display()
     );
+    Ok(paths)
+}
+
+fn run_all(scenes_dir: &Path, out_dir: &Path, overrides: &Overrides) -> anyhow::Result<()> {
+    let paths = scene_files(scenes_dir)?;
     let mut failures = Vec::new();
     for path in &paths {
         if stop::requested() {
