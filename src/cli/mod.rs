@@ -911,6 +911,17 @@ pub fn record_scene_from(
     rec: rerun::RecordingStream,
     from: f32,
 ) -> anyhow::Result<RunReport> {
+    record_scene_to(scene, rec, from, false)
+}
+
+/// [`record_scene_from`]; `live` (a viewer watching) sends every frame as it comes instead of
+/// a block per simulated second.
+fn record_scene_to(
+    scene: &Scene,
+    rec: rerun::RecordingStream,
+    from: f32,
+    live: bool,
+) -> anyhow::Result<RunReport> {
     if scene.def.kinematics.is_some() {
         let (equal, unequal) = record::record_kinematics(&rec, scene)?;
         println!(
@@ -936,6 +947,7 @@ pub fn record_scene_from(
     }
     let mut lab = scene.build()?;
     let mut recorder = Recorder::new(rec, &lab, scene)?;
+    recorder.live = live;
     let mut late = FromTime {
         inner: &mut recorder,
         from: from as f64 - 0.5 * scene.def.dt as f64,
@@ -1043,7 +1055,8 @@ fn run_one(
         eprintln!("recording to {}", out.display());
         (record::save_to(&out, scene)?, Default::default(), Some(out))
     };
-    let report = record_scene_from(scene, rec, record_from)
+    // no file: a viewer (--spawn, --connect) or a pipe, sent frame by frame
+    let report = record_scene_to(scene, rec, record_from, out.is_none())
         .map_err(|e| explain_write_failure(out.as_deref(), e))?;
     print_summary(&name, scene, &report);
     if stop::requested() {

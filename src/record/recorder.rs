@@ -82,6 +82,8 @@ pub struct Recorder {
     flushed_at: (std::time::Instant, f64),
     /// Every scalar series.
     scalars: ScalarColumns,
+    /// Send every frame as it comes (a viewer is watching), not a block per second.
+    pub live: bool,
 }
 
 fn group_of(lab: &Lab, body: BodyId) -> String {
@@ -140,6 +142,7 @@ impl Recorder {
             contacts: Track::new("world/contacts", TrackKind::Arrows),
             flushed_at: (std::time::Instant::now(), 0.0),
             scalars,
+            live: false,
         };
         recorder.log_static(lab, scene)?;
         Ok(recorder)
@@ -314,6 +317,9 @@ impl Recorder {
         }
         if world.settings.sleep {
             (self.scalars).push("metrics/awake_bodies", world.awake_bodies as f64);
+        }
+        if self.live {
+            self.send()?; // not flushed: the batcher forwards chunks as they come
         }
         let (wall, simulated) = self.flushed_at;
         if world.time - simulated >= FLUSH_EVERY_S || wall.elapsed().as_secs_f64() >= FLUSH_WALL_S {
