@@ -35,6 +35,8 @@ pub struct Cli {
     pub command: Option<Command>,
 }
 
+// The doc comments are `--help` text, where `<out>` is a placeholder, not HTML.
+#[allow(rustdoc::invalid_html_tags)]
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// The main job: every scene in a folder -> <out>/<scene>.rrd, plus a residual summary

@@ -12,7 +12,7 @@
 //! Face axes are preferred within a small tolerance, and a's faces over b's, so the choice does
 //! not flicker between nearly equal axes from one frame to the next.
 //!
-//! Feature ids ([`FeatureId`](super::feature::FeatureId)): a face point names the reference face, the incident face and the
+//! Feature ids ([`FeatureId`]): a face point names the reference face, the incident face and the
 //! two features whose meeting made the clipped vertex (an incident corner is where two incident
 //! edges meet; a crossing is an incident edge cut by a side plane of the reference face; a
 //! reference corner is where two side planes meet), as Box2D v3's clip ids do. An edge point

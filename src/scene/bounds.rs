@@ -1,6 +1,6 @@
 //! The documented bounds of a scene's numbers (README, "Scene file format"): every number is
 //! finite (where infinity means nothing) and within a range that keeps the simulation in f32
-//! and the run finite. A value outside names its field; [`check`] runs before the `[drop]`
+//! and the run finite. A value outside names its field; [`check_drop`] runs before the `[drop]`
 //! block is expanded, so a huge `count` is refused instead of allocated.
 
 use super::locate::Seg;
