@@ -371,3 +371,40 @@ fn each_entity_gets_one_chunk_per_simulated_second() {
         assert_eq!(frames, (0..=150).collect::<BTreeSet<i64>>(), "{entity}");
     }
 }
+
+/// `run --stdout` streams the recording on stdout: the summary goes to stderr, so nothing but
+/// the recording is on stdout (a report line there is trailing bytes in the stream).
+#[test]
+fn stdout_recording_carries_no_report_text() {
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_rodlab"))
+        .args([
+            "run",
+            concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/passive_bending.toml"),
+            "--frames",
+            "40",
+            "--stdout",
+        ])
+        .output()
+        .unwrap();
+    assert!(output.status.success());
+    let has = |bytes: &[u8], text: &str| bytes.windows(text.len()).any(|w| w == text.as_bytes());
+    assert!(
+        has(&output.stderr, "state hash"),
+        "the summary is on stderr"
+    );
+    assert!(
+        !has(&output.stdout, "state hash"),
+        "no summary in the stream"
+    );
+    assert!(
+        !has(&output.stdout, "step profile"),
+        "no profile in the stream"
+    );
+    let path = temp_path("stdout.rrd");
+    std::fs::write(&path, &output.stdout).unwrap();
+    let chunks = decode(&path);
+    assert_eq!(
+        frames_with(&chunks, "world/chain3/capsules", "translations"),
+        (0..=40).collect::<BTreeSet<i64>>()
+    );
+}

@@ -24,6 +24,22 @@ use crate::world::{SimulationError, SolverKind};
 pub mod stop;
 pub mod tune;
 
+/// Set when the recording itself goes to stdout (`run --stdout`): the run's reports then go
+/// to stderr, so the stream stays a valid .rrd.
+static STDOUT_IS_RECORDING: std::sync::atomic::AtomicBool =
+    std::sync::atomic::AtomicBool::new(false);
+
+/// `println!`, or `eprintln!` while stdout carries the recording.
+macro_rules! report {
+    ($($arg:tt)*) => {
+        if STDOUT_IS_RECORDING.load(std::sync::atomic::Ordering::Relaxed) {
+            eprintln!($($arg)*)
+        } else {
+            println!($($arg)*)
+        }
+    };
+}
+
 #[derive(Debug, Parser)]
 #[command(
     name = "rodlab",
@@ -383,6 +399,9 @@ fn dispatch_command(cli: Cli, matches: &ArgMatches) -> anyhow::Result<()> {
             }
             let scene = load_scene(&scene, variant.as_deref(), &(&overrides).into())?;
             let save = sub.get_one::<PathBuf>("save").map(PathBuf::as_path);
+            if matches!(sub.value_source("stdout"), Some(ValueSource::CommandLine)) {
+                STDOUT_IS_RECORDING.store(true, std::sync::atomic::Ordering::Relaxed);
+            }
             run_one(&scene, record_from, &rerun, rerun_sink_given(sub), save)
         }
         Some(Command::Check { scenes }) => check(&scenes),
@@ -926,7 +945,7 @@ fn record_scene_to(
 ) -> anyhow::Result<RunReport> {
     if scene.def.kinematics.is_some() {
         let (equal, unequal) = record::record_kinematics(&rec, scene)?;
-        println!(
+        report!(
             "  largest end gap from the rod: equal-angle chain {:.2} cm, unequal-angle chain {:.2} cm",
             100.0 * equal,
             100.0 * unequal
@@ -999,9 +1018,14 @@ struct RowPrinter<'a> {
 impl Observer for RowPrinter<'_> {
     fn begin(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()> {
         if self.every > 0 {
-            println!(
+            report!(
                 "  {:>6} {:>8} {:<14} {:>10} {:>10} {:>14}",
-                "frame", "time s", "ragdoll", "disl. cm", "ang. rad", "pose dev. cm"
+                "frame",
+                "time s",
+                "ragdoll",
+                "disl. cm",
+                "ang. rad",
+                "pose dev. cm"
             );
         }
         self.inner.begin(lab, metrics)
@@ -1014,7 +1038,7 @@ impl Observer for RowPrinter<'_> {
     fn frame(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()> {
         if self.every > 0 && lab.world.frame % self.every as u64 == 0 {
             for (ragdoll, r) in lab.ragdolls.iter().zip(&metrics.ragdolls) {
-                println!(
+                report!(
                     "  {:>6} {:>8.3} {:<14} {:>10.4} {:>10.5} {:>14.4}",
                     lab.world.frame,
                     lab.world.time,
@@ -1062,7 +1086,7 @@ fn run_one(
         .map_err(|e| explain_write_failure(out.as_deref(), e))?;
     print_summary(&name, scene, &report);
     if stop::requested() {
-        println!(
+        report!(
             "  stopped by {} after {} of {} frames",
             stop::signal_name(),
             report.frames,
@@ -1221,10 +1245,10 @@ fn check(paths: &[PathBuf]) -> anyhow::Result<()> {
 
 pub fn print_summary(name: &str, scene: &Scene, report: &RunReport) {
     if scene.def.kinematics.is_some() {
-        println!("{name}: {} bends recorded", report.frames);
+        report!("{name}: {} bends recorded", report.frames);
         return;
     }
-    println!(
+    report!(
         "{name}: {} frames, dt {:.4} s, {} substep(s) x {} iterations, {} solver on {} thread(s), \
          {:.0} steps/s (stepping only), energy {:.1} J -> {:.1} J, state hash {:016x}",
         report.frames,
@@ -1246,7 +1270,7 @@ pub fn print_summary(name: &str, scene: &Scene, report: &RunReport) {
             .iter()
             .map(|r| r.summary.mean_angular_rad())
             .sum();
-        println!(
+        report!(
             "  {} ragdolls: total dislocation {mean:.3} cm and angular violation {angular:.4} rad, means over frames",
             report.ragdolls.len()
         );
@@ -1255,7 +1279,7 @@ pub fn print_summary(name: &str, scene: &Scene, report: &RunReport) {
         print_profile(report);
         return;
     }
-    println!(
+    report!(
         "  {:<14} {:<7} {:>14} {:>13} {:>15} {:>14} {:>18}",
         "ragdoll",
         "spine",
@@ -1266,7 +1290,7 @@ pub fn print_summary(name: &str, scene: &Scene, report: &RunReport) {
         "mean pose dev. cm"
     );
     for r in &report.ragdolls {
-        println!(
+        report!(
             "  {:<14} {:<7} {:>14.4} {:>13.4} {:>15.5} {:>14.5} {:>18.4}",
             r.name,
             r.spine.to_string(),
@@ -1283,7 +1307,7 @@ pub fn print_summary(name: &str, scene: &Scene, report: &RunReport) {
     print_sleep(scene, report);
     print_profile(report);
     for (i, rod) in report.final_rods.iter().enumerate() {
-        println!(
+        report!(
             "  rod {i}: final psi {:.3} rad, tau {:.3} rad, length violation {:.4} cm, curve violation {:.5} rad",
             rod.psi,
             rod.tau,
@@ -1301,7 +1325,7 @@ fn print_profile(report: &RunReport) {
         .map(|(name, s)| format!("{name} {:.3}", 1e3 * s / frames))
         .collect();
     if !phases.is_empty() {
-        println!("  step profile, ms per frame: {}", phases.join(", "));
+        report!("  step profile, ms per frame: {}", phases.join(", "));
     }
 }
 
@@ -1309,9 +1333,10 @@ fn print_profile(report: &RunReport) {
 /// on the final poses, over the run: the second catches what the first misses when bodies
 /// slide over each other within a frame.
 fn print_penetration(report: &RunReport) {
-    println!(
+    report!(
         "  deepest contact penetration: {:.3} cm at the contact points, {:.3} cm found afresh",
-        report.max_penetration_cm, report.max_overlap_cm
+        report.max_penetration_cm,
+        report.max_overlap_cm
     );
 }
 
@@ -1322,7 +1347,7 @@ fn print_sleep(scene: &Scene, report: &RunReport) {
     }
     let last = report.awake_bodies.last().copied().unwrap_or(0);
     let all_asleep = report.awake_bodies.iter().position(|&n| n == 0);
-    println!(
+    report!(
         "  sleeping: {last} dynamic bodies awake at the end{}",
         all_asleep.map_or(String::new(), |f| format!(
             "; all asleep from frame {}",
@@ -1338,14 +1363,14 @@ fn print_restless(report: &RunReport) {
     let Some((name, fastest)) = report.restless.first() else {
         return;
     };
-    println!(
+    report!(
         "  still moving (fastest surface point >= {} m/s): {} bodies; fastest {name} {:.3} m/s",
         crate::sleep::SLEEP_SPEED,
         report.restless.len(),
         fastest.point_speed
     );
     for (name, r) in report.restless.iter().take(NAMED) {
-        println!(
+        report!(
             "    {name}: point {:.3} m/s, centre {:.3} m/s, spin {:.2} rad/s about its axis and {:.2} across",
             r.point_speed, r.centre_speed, r.axial_spin, r.cross_spin
         );
