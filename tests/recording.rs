@@ -12,19 +12,25 @@ use rodlab::record;
 use rodlab::scene::Scene;
 use rodlab::sim::Overrides;
 
-#[test]
-fn recording_holds_body_poses_for_every_frame() {
-    let path = temp_path("passive_bending.rrd");
+/// The passive-bending scene, cut to `frames` frames.
+fn passive_bending(frames: u32) -> Scene {
     let mut scene = Scene::load(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/scenes/passive_bending.toml"
     ))
     .unwrap();
     Overrides {
-        frames: Some(40),
+        frames: Some(frames),
         ..Default::default()
     }
     .apply(&mut scene.def);
+    scene
+}
+
+#[test]
+fn recording_holds_body_poses_for_every_frame() {
+    let path = temp_path("passive_bending.rrd");
+    let scene = passive_bending(40);
     let report = record_scene(&scene, record::save_to(&path, &scene).unwrap()).unwrap();
     assert_eq!(report.frames, 40);
     let chunks = decode(&path);
@@ -71,16 +77,7 @@ fn recording_holds_body_poses_for_every_frame() {
 #[test]
 fn recording_from_a_time_keeps_only_the_later_frames() {
     let path = temp_path("passive_bending_late.rrd");
-    let mut scene = Scene::load(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/scenes/passive_bending.toml"
-    ))
-    .unwrap();
-    Overrides {
-        frames: Some(40),
-        ..Default::default()
-    }
-    .apply(&mut scene.def);
+    let scene = passive_bending(40);
     // frame 30 is at 0.5 s
     let report =
         rodlab::cli::record_scene_from(&scene, record::save_to(&path, &scene).unwrap(), 0.5)
@@ -344,16 +341,7 @@ fn record_every_keeps_every_nth_frame() {
 #[test]
 fn each_entity_gets_one_chunk_per_simulated_second() {
     let path = temp_path("chunks_per_second.rrd");
-    let mut scene = Scene::load(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/scenes/passive_bending.toml"
-    ))
-    .unwrap();
-    Overrides {
-        frames: Some(150), // 2.5 s at 60 Hz
-        ..Default::default()
-    }
-    .apply(&mut scene.def);
+    let scene = passive_bending(150); // 2.5 s at 60 Hz
     record_scene(&scene, record::save_to(&path, &scene).unwrap()).unwrap();
     let chunks = decode(&path);
     for entity in [

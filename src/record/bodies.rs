@@ -17,8 +17,6 @@ pub(super) struct BodyBatch {
     pub(super) bodies: Vec<BodyId>,
     /// Capsules: body-space offset of the first cap centre and rotation taking +Z to the axis.
     pub(super) local_offsets: Vec<(Vec3, Quat)>,
-    pub(super) translations: Vec<[f32; 3]>,
-    pub(super) rotations: Vec<rerun::Quaternion>,
     /// With sleeping on, the awake colours, and the sleep state last logged (colours are then
     /// logged per frame when a body's state changes, instead of once as static data).
     pub(super) colors: Vec<rerun::Color>,
@@ -110,8 +108,6 @@ pub(super) fn body_batches(lab: &Lab, group: impl Fn(BodyId) -> String) -> Vec<B
                 entity,
                 bodies: vec![id],
                 local_offsets: vec![offset],
-                translations: Vec::new(),
-                rotations: Vec::new(),
                 colors: Vec::new(),
                 logged_asleep: Vec::new(),
             }),
@@ -229,58 +225,6 @@ pub(super) fn log_colors(
             &rerun::Ellipsoids3D::update_fields().with_colors(colors),
         )?,
         _ => rec.log(entity, &rerun::Boxes3D::update_fields().with_colors(colors))?,
-    }
-    Ok(())
-}
-
-/// A batch's poses this frame, logged at once (and its colours, if any changed).
-pub(super) fn log_poses(
-    rec: &RecordingStream,
-    world: &World,
-    batch: &mut BodyBatch,
-    colors: Vec<rerun::Color>,
-) -> anyhow::Result<()> {
-    let (mut translations, mut rotations) = (
-        std::mem::take(&mut batch.translations),
-        std::mem::take(&mut batch.rotations),
-    );
-    translations.clear();
-    rotations.clear();
-    for (centre, rotation) in shape_poses(world, batch) {
-        translations.push(centre);
-        rotations.push(rerun::Quaternion::from_xyzw(rotation));
-    }
-    (batch.translations, batch.rotations) = (translations, rotations);
-    let entity = batch.entity.as_str();
-    match world.body(batch.bodies[0]).shape {
-        Shape::Capsule { .. } => rec.log(
-            entity,
-            &with_colors_if_any(
-                rerun::Capsules3D::update_fields()
-                    .with_translations(batch.translations.iter().copied())
-                    .with_quaternions(batch.rotations.iter().copied()),
-                colors,
-            ),
-        )?,
-        Shape::HalfSpace => unreachable!("half-spaces are not batched"),
-        Shape::Sphere { .. } => rec.log(
-            entity,
-            &with_colors_if_any(
-                rerun::Ellipsoids3D::update_fields()
-                    .with_centers(batch.translations.iter().copied())
-                    .with_quaternions(batch.rotations.iter().copied()),
-                colors,
-            ),
-        )?,
-        Shape::Cuboid { .. } => rec.log(
-            entity,
-            &with_colors_if_any(
-                rerun::Boxes3D::update_fields()
-                    .with_centers(batch.translations.iter().copied())
-                    .with_quaternions(batch.rotations.iter().copied()),
-                colors,
-            ),
-        )?,
     }
     Ok(())
 }

@@ -22,7 +22,8 @@ use rerun::blueprint::{
 };
 use rerun::RecordingStream;
 
-use super::bodies::{body_batches, log_poses, log_shapes, BodyBatch};
+use super::bodies::{body_batches, log_shapes, pose_track_kind, shape_poses, BodyBatch};
+use super::tracks::Track;
 use super::{create_parent, APPLICATION_ID};
 use crate::constraint::Constraint;
 use crate::lab::Lab;
@@ -127,6 +128,8 @@ pub struct TuneRecorder {
     rows: usize,
     columns: usize,
     batches: Vec<Vec<BodyBatch>>,
+    /// One pose track per batch, sent every 60 frames.
+    poses: Vec<Vec<Track>>,
     points: Vec<[f32; 3]>,
 }
 
@@ -146,6 +149,7 @@ impl TuneRecorder {
             rows: all.iter().map(|c| c.row).max().map_or(1, |r| r + 1),
             columns: all.iter().map(|c| c.column).max().map_or(1, |c| c + 1),
             batches: Vec::new(),
+            poses: Vec::new(),
             points: Vec::new(),
         })
     }
@@ -157,12 +161,17 @@ impl TuneRecorder {
         }
         let rec = &self.rec;
         rec.set_time_sequence("frame", frame as i64);
-        for ((copy, lab), batches) in self.copies.iter().zip(labs).zip(&mut self.batches) {
+        let copies = self.copies.iter().zip(labs);
+        for ((copy, lab), (batches, tracks)) in copies.zip(self.batches.iter().zip(&mut self.poses))
+        {
             let Some(lab) = lab else { continue };
             let world = &lab.world;
             rec.set_duration_secs("sim_time", world.time);
-            for batch in batches.iter_mut() {
-                log_poses(rec, world, batch, Vec::new())?;
+            for (batch, track) in batches.iter().zip(tracks.iter_mut()) {
+                track.begin(frame as i64, world.time);
+                for (centre, rotation) in shape_poses(world, batch) {
+                    track.push_pose(centre, rotation);
+                }
             }
             for constraint in &world.constraints {
                 let Constraint::Rod(rod) = constraint else {
@@ -184,7 +193,15 @@ impl TuneRecorder {
             }
         }
         if frame.is_multiple_of(60) {
-            rec.flush_blocking()?;
+            self.send_poses()?;
+            self.rec.flush_blocking()?;
+        }
+        Ok(())
+    }
+
+    fn send_poses(&mut self) -> anyhow::Result<()> {
+        for track in self.poses.iter_mut().flatten() {
+            track.send(&self.rec)?;
         }
         Ok(())
     }
@@ -195,6 +212,7 @@ impl TuneRecorder {
         for (copy, lab) in self.copies.iter().zip(labs) {
             let Some(lab) = lab else {
                 self.batches.push(Vec::new());
+                self.poses.push(Vec::new());
                 continue;
             };
             let entity = copy.entity();
@@ -203,6 +221,13 @@ impl TuneRecorder {
             for batch in &batches {
                 log_shapes(rec, &lab.world, batch, vec![color; batch.bodies.len()])?;
             }
+            let kind = |b: &BodyBatch| pose_track_kind(&lab.world, b);
+            (self.poses).push(
+                batches
+                    .iter()
+                    .map(|b| Track::new(b.entity.clone(), kind(b)))
+                    .collect(),
+            );
             self.batches.push(batches);
             let top = (lab.world.bodies.iter())
                 .map(|b| b.position)
@@ -229,12 +254,13 @@ impl TuneRecorder {
 
     /// The copies' series (as columns over `frame`), the summary table and chart; flushes.
     pub fn finish(
-        self,
+        mut self,
         traces: &[Trace],
         rows: &[TuneRow],
         csv: &str,
         chart_png: &[u8],
     ) -> anyhow::Result<()> {
+        self.send_poses()?;
         let rec = &self.rec;
         for (copy, trace) in self.copies.iter().zip(traces) {
             let entity = copy.entity();
