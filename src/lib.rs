@@ -40,6 +40,7 @@ pub mod chart;
 pub mod cli;
 pub mod constraint;
 pub mod contact;
+pub mod csv_table;
 pub mod kinematics;
 pub mod lab;
 pub mod lanes;

@@ -342,61 +342,43 @@ const HEADER: &str =
 mean_dislocation_cm,max_dislocation_cm,mean_angular_rad,max_angular_rad,max_overlap_cm,failed";
 
 pub fn to_csv(rows: &[SweepRow]) -> String {
-    let mut out = String::from(HEADER);
-    out.push('\n');
-    for r in rows {
-        let failed = r.failed.as_deref().unwrap_or("").replace([',', '\n'], ";");
-        out += &format!(
-            "{},{},{},{},{},{},{},{},{},{},{:.3},{:.6},{:.6},{:.6},{:.6},{:.4},{}\n",
-            r.method,
-            r.spine,
-            r.joint,
-            r.solver,
-            r.substeps,
-            r.warm_start,
-            r.contact_hertz,
-            r.contact_stacking,
-            r.dt,
-            r.iterations,
-            r.step_us,
-            r.mean_dislocation_cm,
-            r.max_dislocation_cm,
-            r.mean_angular_rad,
-            r.max_angular_rad,
-            r.max_overlap_cm,
-            failed
-        );
-    }
-    out
+    crate::csv_table::to_text(
+        HEADER,
+        rows.iter().map(|r| {
+            vec![
+                r.method.clone(),
+                r.spine.clone(),
+                r.joint.clone(),
+                r.solver.clone(),
+                r.substeps.to_string(),
+                r.warm_start.to_string(),
+                r.contact_hertz.to_string(),
+                r.contact_stacking.to_string(),
+                r.dt.to_string(),
+                r.iterations.to_string(),
+                format!("{:.3}", r.step_us),
+                format!("{:.6}", r.mean_dislocation_cm),
+                format!("{:.6}", r.max_dislocation_cm),
+                format!("{:.6}", r.mean_angular_rad),
+                format!("{:.6}", r.max_angular_rad),
+                format!("{:.4}", r.max_overlap_cm),
+                r.failed.clone().unwrap_or_default(),
+            ]
+        }),
+    )
 }
 
 /// Reads back what [`to_csv`] wrote (columns as in the module's table: method, spine, joint,
 /// solver, substeps, warm_start, contact_hertz, contact_stacking, dt, iterations, step_us, the
-/// four residuals, max_overlap_cm,
-/// failed); errors name the line
-/// and the column.
+/// four residuals, max_overlap_cm, failed); errors name the line and the column.
 pub fn parse_csv(text: &str) -> anyhow::Result<Vec<SweepRow>> {
-    use anyhow::{bail, Context as _};
-    let mut lines = text.lines().enumerate();
-    match lines.next() {
-        Some((_, header)) if header == HEADER => {}
-        _ => bail!("line 1: expected the header {HEADER}"),
-    }
+    use anyhow::Context as _;
     let mut rows = Vec::new();
-    for (index, line) in lines.filter(|(_, l)| !l.is_empty()) {
-        let fields: Vec<&str> = line.split(',').collect();
-        let columns = HEADER.split(',').count();
-        if fields.len() != columns {
-            bail!(
-                "line {}: {} columns, expected {columns}",
-                index + 1,
-                fields.len()
-            );
-        }
+    for (line, fields) in crate::csv_table::read(text, HEADER)? {
         let number = |column: usize| -> anyhow::Result<f64> {
             fields[column].parse::<f64>().with_context(|| {
                 let name = HEADER.split(',').nth(column).unwrap_or("?");
-                format!("line {}: column {name}: not a number", index + 1)
+                format!("line {line}: column {name}: not a number")
             })
         };
         rows.push(SweepRow {

@@ -412,30 +412,35 @@ pub fn run_grid(
     Ok((rows, traces))
 }
 
-/// The summary as CSV, one row per copy.
+/// Column names of [`to_csv`].
+pub const CSV_HEADER: &str = "index,bend_kind,bend,twist_kind,twist,iterations,substeps,\
+final_psi_rad,final_tau_rad,psi_overshoot_rad,psi_settling_s,tau_settling_s,mean_dislocation_cm,failed";
+
+/// The summary as CSV, one row per copy (the failure message quoted where it needs it).
 pub fn to_csv(rows: &[TuneRow]) -> String {
-    let mut out = String::from(
-        "index,bend_kind,bend,twist_kind,twist,iterations,substeps,final_psi_rad,final_tau_rad,\
-         psi_overshoot_rad,psi_settling_s,tau_settling_s,mean_dislocation_cm,failed\n",
-    );
-    for r in rows {
-        let (bend_kind, bend) = r.copy.bend.columns();
-        let (twist_kind, twist) = r.copy.twist.columns();
-        out.push_str(&format!(
-            "{},{bend_kind},{bend},{twist_kind},{twist},{},{},{:.5},{:.5},{:.5},{:.3},{:.3},{:.5},{}\n",
-            r.copy.index,
-            r.copy.iterations,
-            r.substeps,
-            r.final_psi,
-            r.final_tau,
-            r.psi_overshoot,
-            r.psi_settling_s,
-            r.tau_settling_s,
-            r.mean_dislocation_cm,
-            r.failed.as_deref().unwrap_or("").replace(',', ";"),
-        ));
-    }
-    out
+    crate::csv_table::to_text(
+        CSV_HEADER,
+        rows.iter().map(|r| {
+            let (bend_kind, bend) = r.copy.bend.columns();
+            let (twist_kind, twist) = r.copy.twist.columns();
+            vec![
+                r.copy.index.to_string(),
+                bend_kind.to_string(),
+                bend.to_string(),
+                twist_kind.to_string(),
+                twist.to_string(),
+                r.copy.iterations.to_string(),
+                r.substeps.to_string(),
+                format!("{:.5}", r.final_psi),
+                format!("{:.5}", r.final_tau),
+                format!("{:.5}", r.psi_overshoot),
+                format!("{:.3}", r.psi_settling_s),
+                format!("{:.3}", r.tau_settling_s),
+                format!("{:.5}", r.mean_dislocation_cm),
+                r.failed.clone().unwrap_or_default(),
+            ]
+        }),
+    )
 }
 
 /// The summary chart: the settled bend against the bend setting, one line per twist setting

@@ -175,22 +175,21 @@ fn tables_have_one_row_per_case_and_per_run_and_parse_back() {
         }
     }
 
-    let mut lines = csv.lines();
-    let columns: Vec<&str> = lines.next().unwrap().split(',').collect();
-    assert_eq!(columns, CSV_HEADER.split(',').collect::<Vec<_>>());
+    let rows = rodlab::csv_table::read(&csv, CSV_HEADER).expect("the stress table reads back");
+    let columns: Vec<&str> = CSV_HEADER.split(',').collect();
     let column = |name: &str| columns.iter().position(|c| *c == name).unwrap();
-    let body: Vec<&str> = lines.collect();
-    assert_eq!(body.len(), outcomes.len(), "one row per run");
-    for (line, o) in body.iter().zip(&outcomes) {
-        let fields: Vec<&str> = line.split(',').collect();
-        assert_eq!(fields.len(), columns.len(), "{line}");
-        assert_eq!(fields[column("case")], o.case);
+    assert_eq!(rows.len(), outcomes.len(), "one row per run");
+    for ((line, fields), o) in rows.iter().zip(&outcomes) {
+        assert_eq!(fields.len(), columns.len(), "line {line}");
+        assert_eq!(&fields[column("case")], o.case);
         assert_eq!(fields[column("method")], o.method.to_string());
         assert_eq!(fields[column("verdict")], o.verdict.to_string());
         let number = |name: &str| fields[column(name)].parse::<f32>().unwrap();
         assert_eq!(number("frames_run") as u32, o.measures.frames_run);
         assert!((number("peak_speed_m_s") - o.measures.peak_speed).abs() < 1e-3);
         assert!((number("mean_residual_cm") - o.measures.mean_residual_cm).abs() < 1e-4);
+        let failed = o.measures.failed.as_deref().unwrap_or("");
+        assert_eq!(&fields[column("failed")], failed, "line {line}");
     }
 
     // the paper's scene at its own settings is stable for every method
@@ -312,4 +311,24 @@ fn verdict_thresholds() {
     let mut nan = calm_measures();
     nan.shake = f32::NAN;
     assert_eq!(verdict(&nan, &c), Verdict::Exploded);
+}
+
+/// The stress table quotes a failure message instead of rewriting its commas.
+#[test]
+fn the_stress_table_keeps_a_failure_message_with_commas() {
+    let message = "frame 12: body \"drop0/head\", constraint \"neck\", 509 rad/s";
+    let outcome = rodlab::stress::Outcome {
+        case: "pile, tight",
+        method: rodlab::stress::Method::Rod,
+        verdict: rodlab::stress::Verdict::Exploded,
+        measures: rodlab::stress::Measures {
+            failed: Some(message.to_string()),
+            ..Default::default()
+        },
+    };
+    let text = rodlab::stress::table_csv(&[outcome]);
+    let rows = rodlab::csv_table::read(&text, rodlab::stress::CSV_HEADER).unwrap();
+    let record = &rows[0].1;
+    assert_eq!(&record[0], "pile, tight");
+    assert_eq!(&record[record.len() - 1], message);
 }

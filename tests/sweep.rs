@@ -213,3 +213,24 @@ fn three_sweep_shards_together_give_exactly_the_rows_of_the_whole_sweep() {
     pieces.sort();
     assert_eq!(pieces, sorted);
 }
+
+/// A failure message holding commas, quotes and a newline survives the CSV whole (it used to
+/// have its commas replaced).
+#[test]
+fn a_failure_message_with_commas_reads_back_whole() {
+    let mut rows = run(
+        "passive_bending",
+        &SweepConfig {
+            iterations: vec![1],
+            spines: vec![SpineKind::Rod],
+            frames: Some(5),
+            repeats: 1,
+            ..Default::default()
+        },
+    );
+    let message = "frame 3: body \"drop1/head\", constraint \"neck\", NaN,\nstopped";
+    rows[0].failed = Some(message.to_string());
+    let back = sweep::parse_csv(&sweep::to_csv(&rows)).unwrap();
+    assert_eq!(back[0].failed.as_deref(), Some(message));
+    assert_eq!(back[0].method, rows[0].method);
+}

@@ -787,7 +787,6 @@ fn feature_costs(scene: &Scene, out: &Path) -> anyhow::Result<()> {
         "  {:<26} {:>9} {:>10} {:>10} {:>8}",
         "feature", "modelled", "with", "without", "cost"
     );
-    let mut csv = String::from("feature,modelled,with_us,without_us\n");
     for c in &costs {
         println!(
             "  {:<26} {:>9} {:>10.1} {:>10.1} {:>+7.0}%",
@@ -797,11 +796,18 @@ fn feature_costs(scene: &Scene, out: &Path) -> anyhow::Result<()> {
             c.without_us,
             100.0 * (c.with_us / c.without_us - 1.0)
         );
-        csv += &format!(
-            "{},{},{:.3},{:.3}\n",
-            c.feature, c.modelled, c.with_us, c.without_us
-        );
     }
+    let csv = crate::csv_table::to_text(
+        "feature,modelled,with_us,without_us",
+        costs.iter().map(|c| {
+            vec![
+                c.feature.to_string(),
+                c.modelled.to_string(),
+                format!("{:.3}", c.with_us),
+                format!("{:.3}", c.without_us),
+            ]
+        }),
+    );
     let path = out.join(format!("{}_features.csv", scene.name()));
     std::fs::write(&path, csv).with_context(|| format!("cannot write {}", path.display()))?;
     Ok(())

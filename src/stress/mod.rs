@@ -88,7 +88,7 @@
 //! | `max_residual_cm`, `mean_residual_cm` | largest joint dislocation: maximum, last-second mean |
 //! | `mean_angular_rad` | largest angular violation, last-second mean (not a criterion) |
 //! | `shake_m_s` | shake, last-second mean |
-//! | `failed` | the health check's message, commas replaced by semicolons; empty if none |
+//! | `failed` | the health check's message, quoted where it holds a comma; empty if none |
 
 mod scenarios;
 
@@ -606,31 +606,30 @@ pub const CSV_HEADER: &str = "case,method,verdict,frames_run,frames,energy_growt
 final_energy_growth,peak_speed_m_s,speed_reference_m_s,final_speed_m_s,settles,max_residual_cm,mean_residual_cm,mean_angular_rad,\
 shake_m_s,failed";
 
-/// One row per run, columns [`CSV_HEADER`]; the failure message has its commas replaced.
+/// One row per run, columns [`CSV_HEADER`] (the failure message quoted where it needs it).
 pub fn table_csv(outcomes: &[Outcome]) -> String {
-    let mut out = String::from(CSV_HEADER);
-    out.push('\n');
-    for o in outcomes {
-        let m = &o.measures;
-        out += &format!(
-            "{},{},{},{},{},{:.4},{:.4},{:.3},{:.3},{:.4},{},{:.4},{:.4},{:.4},{:.4},{}\n",
-            o.case,
-            o.method,
-            o.verdict,
-            m.frames_run,
-            m.frames,
-            m.energy_growth,
-            m.final_energy_growth,
-            m.peak_speed,
-            m.speed_reference,
-            m.final_speed,
-            m.settles,
-            m.max_residual_cm,
-            m.mean_residual_cm,
-            m.mean_angular_rad,
-            m.shake,
-            m.failed.as_deref().unwrap_or("").replace(',', ";"),
-        );
-    }
-    out
+    crate::csv_table::to_text(
+        CSV_HEADER,
+        outcomes.iter().map(|o| {
+            let m = &o.measures;
+            vec![
+                o.case.to_string(),
+                o.method.to_string(),
+                o.verdict.to_string(),
+                m.frames_run.to_string(),
+                m.frames.to_string(),
+                format!("{:.4}", m.energy_growth),
+                format!("{:.4}", m.final_energy_growth),
+                format!("{:.3}", m.peak_speed),
+                format!("{:.3}", m.speed_reference),
+                format!("{:.4}", m.final_speed),
+                m.settles.to_string(),
+                format!("{:.4}", m.max_residual_cm),
+                format!("{:.4}", m.mean_residual_cm),
+                format!("{:.4}", m.mean_angular_rad),
+                format!("{:.4}", m.shake),
+                m.failed.clone().unwrap_or_default(),
+            ]
+        }),
+    )
 }
