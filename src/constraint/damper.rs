@@ -10,8 +10,8 @@
 //! relaxation `1 - (1 - min(h k w(n), 1))^(1 / iterations)` per iteration. The rows are solved
 //! in the sweep, before the joints and rods, so the point constraints project the turn onto
 //! what each joint allows: a limb hinged at its end slows at `k / (2 I_pivot)`, the damped
-//! pendulum's rate (`tests/pendulum.rs`), and a pair keeps its total angular momentum
-//! (`tests/conservation.rs`).
+//! pendulum's rate (`tests/it/pendulum.rs`), and a pair keeps its total angular momentum
+//! (`tests/it/conservation.rs`).
 //!
 //! Why not simpler: damping a fixed fraction of the free pair's relative spin, as an angular
 //! impulse after the sweep or as this spring with a fixed relaxation, is a dashpot of

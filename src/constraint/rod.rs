@@ -36,7 +36,7 @@
 //! as the angular impulse `d lambda (t_a x t_b)^` on b and its negative on a, `w` the pair's
 //! inverse inertia about that axis. The twist likewise with `C = tau` about `t_b`
 //! (`twist_stiffness`). Once the iterations converge, the rod holds the torque `k psi` whatever
-//! their number (`tests/rod.rs` measures it). Damping `c` (N m s/rad) acts on the velocities
+//! their number (`tests/it/rod.rs` measures it). Damping `c` (N m s/rad) acts on the velocities
 //! after the substep ([`RodRow::damp_velocities`]).
 //!
 //! The arc (eq. 7-8, in a form stable at small `psi`): with `k` the unit normal of `t_a` toward
@@ -56,7 +56,7 @@ use crate::solver_body::SolverBody;
 #[serde(rename_all = "snake_case")]
 pub enum LengthCorrection {
     /// The paper's: linear motion along o^ at fixed psi. Its force is not along the gradient of
-    /// eq. 9, so on a freely bending rod it does work (`tests/rod.rs` measures the gain).
+    /// eq. 9, so on a freely bending rod it does work (`tests/it/rod.rs` measures the gain).
     #[default]
     Offset,
     /// Along the full gradient of eq. 9: also turns the bodies through psi,

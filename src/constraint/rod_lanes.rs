@@ -22,7 +22,7 @@
 //!
 //! A lane whose guard fails keeps its pose bit for bit, like the scalar code's early return.
 //! The lanes differ from the scalar code only by rounding (and `wide`'s polynomial `atan2`,
-//! `sin`, `cos`): `tests/lanes_rod.rs` measures the agreement.
+//! `sin`, `cos`): `tests/it/lanes_rod.rs` measures the agreement.
 //!
 //! The SIMD solver packs a batch into [`RodLanes`] only when every row uses the default modes
 //! ([`is_default_modes`]); a batch with any other mode ([`TwistMode::Paper`],

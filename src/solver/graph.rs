@@ -11,7 +11,7 @@
 //!   commute, so solving colour by colour gives exactly the sequential Gauss-Seidel sweep of
 //!   the paper's solver, at any lane width. Identical ragdolls fill the colours evenly (the
 //!   lanes run across ragdolls). A single chain gets one row per colour and gains nothing from
-//!   lanes. With greedy colouring a hanging chain converged visibly slower (`tests/chain.rs`
+//!   lanes. With greedy colouring a hanging chain converged visibly slower (`tests/it/chain.rs`
 //!   failed with it).
 //! - [`Order::Greedy`], Box2D's choice, used for contact points: each row takes the lowest
 //!   colour neither of its movable bodies has used yet; a row whose bodies have used all

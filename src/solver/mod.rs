@@ -624,7 +624,7 @@ fn commit_pose(body: &mut Body, hot: &SolverBody, h: f32) {
 /// unchanged when both use the same `w_b`. We solve that for the new velocity,
 /// `w_b = I^-1 exp(-dt w_b) L_b`, by fixed-point iteration started from one implicit Newton step
 /// (Catto, GDC 2015). At the fixed point a free body's angular momentum is conserved exactly
-/// (see `tests/conservation.rs` for the tolerance measured). If the iteration does not contract
+/// (see `tests/it/conservation.rs` for the tolerance measured). If the iteration does not contract
 /// (a very fast spin of a very elongated body at a long time step), the Newton step is kept: it is
 /// unconditionally stable and only slightly dissipative. The iteration stops early once a pass
 /// changes `w` by less than `converged` times its length (0: always four passes), and keeps the

@@ -7,7 +7,7 @@
 //! across lanes. W = 4 (`solve_lanes::<f32x4>`) and W = 8 (`solve_lanes::<f32x8>`).
 //!
 //! `timing` (ignored) prints ns per joint for scalar, W=4 and W=8, cheap and exact:
-//! `cargo test --release --test lanes_joint -- --ignored --nocapture timing`.
+//! `cargo test --release --test it lanes_joint::timing -- --ignored --nocapture`.
 
 use rodlab::constraint::ball_socket_lanes::solve_lanes;
 use rodlab::constraint::{AngularLimit, AngularSpring, JointFlavour, JointRow};

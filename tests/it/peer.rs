@@ -1,5 +1,4 @@
 //! The Rapier peer (`--features rapier`): the same scene, the same physics, the same measure.
-#![cfg(feature = "rapier")]
 
 use rodlab::peer::{self, RapierWorld};
 use rodlab::ragdoll::SpineKind;

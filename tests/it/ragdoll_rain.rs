@@ -2,7 +2,7 @@
 //! without NaN or explosion for both spines, nothing through the floor and the mean
 //! dislocation under 1 cm per ragdoll, with the scene's 4 substeps of 2 iterations (SIMD) and
 //! contact stacking.
-//! `cargo test --release --test ragdoll_rain -- --nocapture` prints steps/s.
+//! `cargo test --release --test it ragdoll_rain:: -- --nocapture` prints steps/s.
 
 use rodlab::lab::Lab;
 use rodlab::ragdoll::SpineKind;

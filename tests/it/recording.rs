@@ -2,11 +2,9 @@
 //! frame; a run that explodes stops with an error naming the body, the constraint and the frame,
 //! and its recording up to that frame stays readable.
 
-mod common;
-
 use std::collections::BTreeSet;
 
-use common::{decode, frames_with, static_texts, temp_path};
+use crate::common::{decode, frames_with, static_texts, temp_path};
 use rodlab::cli::record_scene;
 use rodlab::record;
 use rodlab::scene::Scene;

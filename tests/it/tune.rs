@@ -3,11 +3,9 @@
 //! within 0.01 rad with both kinds of setting; shards 1/3 + 2/3 + 3/3 give exactly the rows of
 //! the unsharded run.
 
-mod common;
-
 use std::collections::BTreeSet;
 
-use common::{decode, frames_with, static_texts, temp_path};
+use crate::common::{decode, frames_with, static_texts, temp_path};
 use rodlab::cli::tune::run_grid;
 use rodlab::scene::Scene;
 use rodlab::tune::{self, MatchBy, Shard, Softness, TuneConfig};

@@ -1,0 +1,31 @@
+//! rodlab's integration tests, as one binary: each file below was a test binary of its own,
+//! and each linked the `rerun` crate. Run one file's tests with
+//! `cargo test --release --test it <file>::`.
+
+mod chain;
+mod common;
+mod conservation;
+mod contacts;
+mod controllability;
+mod humanoid;
+mod kinematics;
+mod lanes_contact;
+mod lanes_joint;
+mod lanes_rod;
+mod passive_bending;
+#[cfg(feature = "rapier")]
+mod peer;
+mod pendulum;
+mod ragdoll_drop;
+mod ragdoll_rain;
+mod recording;
+mod rod;
+mod rod_stiffness;
+mod scalar_simd;
+mod scene_errors;
+mod scene_fuzz;
+mod skeleton;
+mod stress;
+mod substeps;
+mod sweep;
+mod tune;
