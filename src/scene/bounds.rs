@@ -33,7 +33,7 @@ pub const MAX_MASS: f32 = 1e9;
 /// Contact margin at most (m).
 pub const MAX_CONTACT_MARGIN: f32 = 1.0;
 
-type Failure = (Vec<Seg>, String);
+pub(super) type Failure = (Vec<Seg>, String);
 
 fn key(prefix: &[Seg], parts: &[Seg]) -> Vec<Seg> {
     prefix.iter().chain(parts).cloned().collect()

@@ -1,0 +1,166 @@
+//! A checked scene built into a [`Lab`]: the world's settings, bodies, joints, rods and
+//! ragdolls.
+
+use super::locate::Seg;
+use super::{BodyDef, KindDef, Scene, SceneError, ShapeKind};
+use crate::body::{Body, BodyKind};
+use crate::constraint::{AngularLimit, BallSocket, Constraint, Rod};
+use crate::lab::Lab;
+use crate::math::{quat_from_degrees, Iso, Quat, Vec3};
+use crate::ragdoll::{HumanoidSpec, RodParams};
+use crate::shape::Axis;
+use crate::shape::Shape;
+use crate::world::{Settings, World};
+
+impl Scene {
+    /// Builds the lab (world and ragdolls) this scene describes.
+    pub fn build(&self) -> Result<Lab, SceneError> {
+        let d = &self.def;
+        let mut lab = Lab::new(World::new(Settings {
+            gravity: Vec3::from(d.gravity),
+            dt: d.dt,
+            iterations: d.iterations,
+            substeps: d.substeps,
+            solver: d.solver,
+            max_linear_speed: d.max_speed,
+            max_angular_speed: d.max_angular_speed,
+            max_separation: d.max_separation,
+            max_penetration: d.max_penetration,
+            contacts: d.contacts,
+            contact_margin: d.contact_margin,
+            contact_push_speed: d.contact_push_speed,
+            contact_warm_start: d.contact_warm_start,
+            contact_hertz: d.contact_hertz,
+            contact_damping_ratio: d.contact_damping_ratio,
+            contact_stacking: d.contact_stacking,
+            sleep: d.sleep,
+            linear_damping: d.damping[0],
+            angular_damping: d.damping[1],
+            joint_damping: d.joint_damping,
+        }));
+        for (i, r) in d.ragdoll.iter().enumerate() {
+            let spec = HumanoidSpec {
+                name: r.name.clone(),
+                spine: r.spine,
+                joint_flavour: r.joint_flavour.unwrap_or(d.joint_flavour),
+                root: Iso::new(Vec3::from(r.position), quat_from_degrees(r.rotation)),
+                joint_rotations: r
+                    .pose
+                    .iter()
+                    .map(|(k, v)| (k.clone(), quat_from_degrees(*v)))
+                    .collect(),
+                spine_spring: r.spine_spring,
+                limb_spring: r.limb_spring,
+                fixed: r.fixed.clone(),
+                forces: r
+                    .forces
+                    .iter()
+                    .map(|(k, v)| (k.clone(), Vec3::from(*v)))
+                    .collect(),
+                rod: {
+                    let default = RodParams::default();
+                    RodParams {
+                        alpha_bend: r.alpha_b.unwrap_or(default.alpha_bend),
+                        alpha_twist: r.alpha_t.unwrap_or(default.alpha_twist),
+                        bend_stiffness: r.stiffness().bend(),
+                        twist_stiffness: r.stiffness().twist(),
+                        twist_mode: r.twist.unwrap_or(default.twist_mode),
+                        length_correction: r.rod_length.unwrap_or(default.length_correction),
+                    }
+                },
+            };
+            let path = [
+                Seg::Key("ragdoll".into()),
+                Seg::Index(i),
+                Seg::Key("spine".into()),
+            ];
+            lab.add_humanoid(&spec)
+                .map_err(|m| self.error_at(&path, m))?;
+        }
+        let world = &mut lab.world;
+        for b in &d.body {
+            world.add_body(build_body(b));
+        }
+        for j in &d.joint {
+            let a = world.find_body(&j.a).expect("checked");
+            let b = world.find_body(&j.b).expect("checked");
+            let frame = Quat::from_rotation_arc(Vec3::X, Vec3::from(j.axis).normalize());
+            let mut joint = BallSocket::at_world_anchor(
+                &j.name,
+                &world.bodies,
+                a,
+                b,
+                Vec3::from(j.anchor),
+                frame,
+            )
+            .with_flavour(j.flavour.unwrap_or(d.joint_flavour));
+            if let Some([lo, hi]) = j.hinge {
+                joint = joint.with_limit(AngularLimit::hinge(lo.to_radians(), hi.to_radians()));
+            } else if j.swing.is_some() || j.twist.is_some() {
+                let swing = j.swing.unwrap_or(180.0).to_radians();
+                let [lo, hi] = j.twist.unwrap_or([-180.0, 180.0]);
+                joint =
+                    joint.with_limit(AngularLimit::cone(swing, lo.to_radians(), hi.to_radians()));
+            }
+            if let Some(relaxation) = j.spring {
+                joint = joint.with_spring(&world.bodies, relaxation);
+            }
+            world.constraints.push(Constraint::BallSocket(joint));
+        }
+        for (i, r) in d.rod.iter().enumerate() {
+            let (a, b) = (
+                world.find_body(&r.a).expect("checked"),
+                world.find_body(&r.b).expect("checked"),
+            );
+            let path = [Seg::Key("rod".into()), Seg::Index(i), Seg::Key("b".into())];
+            let mut rod = Rod::instantiate(&r.name, &world.bodies, a, b, Vec3::from(r.normal))
+                .map_err(|m| self.error_at(&path, m))?;
+            rod.rest_length = r.rest_length.unwrap_or(rod.rest_length);
+            rod.alpha_bend = r.alpha_b;
+            rod.alpha_twist = r.alpha_t;
+            rod.bend_stiffness = r.stiffness().bend();
+            rod.twist_stiffness = r.stiffness().twist();
+            rod.twist_mode = r.twist;
+            rod.length_correction = r.length_correction;
+            world.constraints.push(Constraint::Rod(rod));
+        }
+        Ok(lab)
+    }
+}
+
+fn build_body(b: &BodyDef) -> Body {
+    let shape = match b.shape {
+        ShapeKind::Sphere => Shape::Sphere {
+            radius: b.radius.unwrap(),
+        },
+        ShapeKind::Capsule => Shape::Capsule {
+            half_height: b.half_height.unwrap(),
+            radius: b.radius.unwrap(),
+            axis: b.axis.unwrap_or(Axis::Y),
+        },
+        ShapeKind::Box => Shape::Cuboid {
+            half_extents: Vec3::from(b.half_extents.unwrap()),
+        },
+        ShapeKind::Plane => Shape::HalfSpace,
+    };
+    let kind = match b.kind {
+        KindDef::Dynamic => BodyKind::Dynamic,
+        KindDef::Fixed => BodyKind::Fixed,
+        KindDef::Kinematic => BodyKind::Kinematic,
+    };
+    let mass = b
+        .mass
+        .unwrap_or_else(|| b.density.unwrap_or(1000.0) * shape.volume());
+    let mut body = Body::new(&b.name, kind, shape, mass)
+        .with_pose(Vec3::from(b.position), quat_from_degrees(b.rotation));
+    if kind != BodyKind::Fixed {
+        body.linear_velocity = Vec3::from(b.velocity);
+        body.angular_velocity = Vec3::from(b.angular_velocity);
+    }
+    body.static_friction = b.static_friction.unwrap_or(body.static_friction);
+    body.dynamic_friction = b.dynamic_friction.unwrap_or(body.dynamic_friction);
+    body.restitution = b.restitution.unwrap_or(body.restitution);
+    body.collision_group = b.collision_group.unwrap_or(body.collision_group);
+    body.collision_mask = b.collision_mask.unwrap_or(body.collision_mask);
+    body
+}

@@ -1,0 +1,256 @@
+//! Semantic checks serde cannot express: bounds, names, pairs, shapes. Each failure is a
+//! field path and a message; [`Scene::parse`] turns it into `FILE:LINE: FIELD: message`.
+
+use super::bounds::{self, Failure};
+use super::check_items::{
+    check_body, check_joint, check_kinematics, check_name, check_ragdoll, check_rod,
+};
+use super::locate::Seg;
+use super::{variant, KindDef, Scene, SceneDef, ShapeKind};
+
+impl Scene {
+    /// The `[[tile]]` groups, before they are expanded: sizes, names, and fixed bodies only.
+    pub(super) fn check_tiles(&self) -> Result<(), Failure> {
+        let d = &self.def;
+        let at = |i: usize, field: &str| {
+            vec![
+                Seg::Key("tile".into()),
+                Seg::Index(i),
+                Seg::Key(field.into()),
+            ]
+        };
+        let mut tile_names: Vec<&str> = Vec::new();
+        for (i, t) in d.tile.iter().enumerate() {
+            check_name(&t.name, &tile_names).map_err(|m| (at(i, "name"), m))?;
+            tile_names.push(&t.name);
+            if t.repeat.contains(&0) {
+                return Err((
+                    at(i, "repeat"),
+                    format!(
+                        "copies along x and z must be at least 1, got {:?}",
+                        t.repeat
+                    ),
+                ));
+            }
+            if t.spacing.iter().any(|s| !(*s > 0.0 && s.is_finite())) {
+                return Err((
+                    at(i, "spacing"),
+                    format!("must be positive distances (m), got {:?}", t.spacing),
+                ));
+            }
+            if t.body.is_empty() {
+                return Err((at(i, "body"), "needs at least one [[tile.body]]".into()));
+            }
+            let made = bounds::tile_bodies(t.repeat, t.body.len());
+            if made > bounds::MAX_TILE_BODIES {
+                return Err((
+                    at(i, "repeat"),
+                    format!("makes {made} bodies, more than {}", bounds::MAX_TILE_BODIES),
+                ));
+            }
+            let mut names: Vec<&str> = Vec::new();
+            for (j, b) in t.body.iter().enumerate() {
+                let field = |f: &str| {
+                    vec![
+                        Seg::Key("tile".into()),
+                        Seg::Index(i),
+                        Seg::Key("body".into()),
+                        Seg::Index(j),
+                        Seg::Key(f.into()),
+                    ]
+                };
+                check_name(&b.name, &names).map_err(|m| (field("name"), m))?;
+                names.push(&b.name);
+                if b.kind != KindDef::Fixed {
+                    return Err((
+                        field("kind"),
+                        "a tile copies static geometry: kind must be \"fixed\"".into(),
+                    ));
+                }
+                if b.shape == ShapeKind::Plane {
+                    return Err((
+                        field("shape"),
+                        "a plane is unbounded: give it as one [[body]], not in a tile".into(),
+                    ));
+                }
+                check_body(b).map_err(|(f, m)| (field(f), m))?;
+                bounds::check_body(b, d.max_speed, d.max_angular_speed)
+                    .map_err(|(f, m)| (field(f), m))?;
+                for other in &d.body {
+                    if other.name == t.copy_name(0, 0, &b.name) {
+                        return Err((
+                            field("name"),
+                            format!(
+                                "its copies are named {}_<i>_<k>_{}, and body \"{}\" already exists",
+                                t.name, b.name, other.name
+                            ),
+                        ));
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Semantic checks serde cannot express.
+    pub(super) fn check(&self) -> Result<(), Failure> {
+        let d = &self.def;
+        let at = |list: &str, i: usize, field: &str| {
+            vec![Seg::Key(list.into()), Seg::Index(i), Seg::Key(field.into())]
+        };
+        check_settings(d, &[])?;
+        if !(1..=bounds::MAX_FRAMES).contains(&d.record.every) {
+            return Err((
+                vec![Seg::Key("record".into()), Seg::Key("every".into())],
+                format!("must be at least 1 (every frame), got {}", d.record.every),
+            ));
+        }
+        if let Some(name) = &d.name {
+            bounds::check_scene_name(name).map_err(|m| (vec![Seg::Key("name".into())], m))?;
+        }
+        let mut variants: Vec<&str> = Vec::new();
+        for (i, v) in d.variant.iter().enumerate() {
+            variant::check_variant_name(&v.name, &variants)
+                .map_err(|m| (at("variant", i, "name"), m))?;
+            variants.push(&v.name);
+            let prefix = [Seg::Key("variant".into()), Seg::Index(i)];
+            check_settings(&v.applied_to(d), &prefix)?;
+        }
+        if let Some(k) = &d.kinematics {
+            check_kinematics(k, d)?;
+        }
+        let mut names: Vec<&str> = Vec::new();
+        for (i, r) in d.ragdoll.iter().enumerate() {
+            check_name(&r.name, &names).map_err(|m| (at("ragdoll", i, "name"), m))?;
+            names.push(&r.name);
+            check_ragdoll(r, |f| at("ragdoll", i, f))?;
+        }
+        let mut body_names: Vec<&str> = Vec::new();
+        for (i, b) in d.body.iter().enumerate() {
+            check_name(&b.name, &body_names).map_err(|m| (at("body", i, "name"), m))?;
+            body_names.push(&b.name);
+            check_body(b).map_err(|(field, m)| (at("body", i, field), m))?;
+            bounds::check_body(b, d.max_speed, d.max_angular_speed)
+                .map_err(|(field, m)| (at("body", i, field), m))?;
+        }
+        for (i, r) in d.rod.iter().enumerate() {
+            check_name(&r.name, &names).map_err(|m| (at("rod", i, "name"), m))?;
+            names.push(&r.name);
+            check_rod(r, &body_names, |f| at("rod", i, f))?;
+        }
+        let mut joint_names_seen: Vec<&str> = Vec::new();
+        for (i, j) in d.joint.iter().enumerate() {
+            check_name(&j.name, &joint_names_seen).map_err(|m| (at("joint", i, "name"), m))?;
+            joint_names_seen.push(&j.name);
+            check_joint(j, &body_names, |f| at("joint", i, f))?;
+        }
+        Ok(())
+    }
+}
+
+/// The scene's method settings (a variant's too, with `prefix` its path): time step, counts,
+/// damping, contact options.
+fn check_settings(d: &SceneDef, prefix: &[Seg]) -> Result<(), Failure> {
+    let key = |k: &str| {
+        let mut path = prefix.to_vec();
+        path.push(Seg::Key(k.into()));
+        path
+    };
+    if !(d.dt > 0.0 && d.dt.is_finite()) {
+        return Err((
+            key("dt"),
+            format!("must be a positive number of seconds, got {}", d.dt),
+        ));
+    }
+    if d.iterations == 0 {
+        return Err((key("iterations"), "must be at least 1".into()));
+    }
+    if d.substeps == 0 {
+        return Err((key("substeps"), "must be at least 1".into()));
+    }
+    if d.frames == 0 {
+        return Err((key("frames"), "must be at least 1".into()));
+    }
+    if let Some(n) = d.ci_frames.filter(|&n| n == 0 || n > d.frames) {
+        return Err((
+            key("ci_frames"),
+            format!("must lie in [1, frames = {}], got {n}", d.frames),
+        ));
+    }
+    if !(d.max_speed > 0.0) {
+        return Err((key("max_speed"), "must be positive".into()));
+    }
+    if d.damping.iter().any(|c| !(*c >= 0.0 && c.is_finite())) {
+        return Err((
+            key("damping"),
+            format!("rates must be non-negative, got {:?}", d.damping),
+        ));
+    }
+    if !(d.joint_damping >= 0.0 && d.joint_damping.is_finite()) {
+        return Err((
+            key("joint_damping"),
+            format!("must be 0 or more (N m s/rad), got {}", d.joint_damping),
+        ));
+    }
+    for (name, value) in [
+        ("max_separation", d.max_separation),
+        ("max_penetration", d.max_penetration),
+    ] {
+        if !(value > 0.0) {
+            return Err((
+                key(name),
+                format!("must be a positive distance in m (or inf), got {value}"),
+            ));
+        }
+    }
+    if !(d.max_angular_speed > 0.0) {
+        return Err((key("max_angular_speed"), "must be positive".into()));
+    }
+    if !(d.contact_push_speed > 0.0) {
+        return Err((
+            key("contact_push_speed"),
+            format!(
+                "must be a positive speed in m/s (or inf), got {}",
+                d.contact_push_speed
+            ),
+        ));
+    }
+    if !(0.0..=1.0).contains(&d.contact_warm_start) {
+        return Err((
+            key("contact_warm_start"),
+            format!(
+                "must be a fraction from 0 to 1, got {}",
+                d.contact_warm_start
+            ),
+        ));
+    }
+    if !(d.contact_hertz >= 0.0 && d.contact_hertz.is_finite()) {
+        return Err((
+            key("contact_hertz"),
+            format!(
+                "must be a frequency of 0 Hz or more, got {}",
+                d.contact_hertz
+            ),
+        ));
+    }
+    if !(d.contact_damping_ratio >= 0.0 && d.contact_damping_ratio.is_finite()) {
+        return Err((
+            key("contact_damping_ratio"),
+            format!("must be 0 or more, got {}", d.contact_damping_ratio),
+        ));
+    }
+    if !(d.contact_stacking >= 0.0 && d.contact_stacking <= MAX_CONTACT_STACKING) {
+        return Err((
+            key("contact_stacking"),
+            format!(
+                "must be a rate from 0 to {MAX_CONTACT_STACKING} per metre, got {}",
+                d.contact_stacking
+            ),
+        ));
+    }
+    bounds::check_settings(d, prefix)
+}
+
+/// The largest stacking rate a scene may ask for (1/m): at 1000 a body 1 cm lower already
+/// counts 22 000 times heavier.
+pub const MAX_CONTACT_STACKING: f32 = 1000.0;

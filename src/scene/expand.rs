@@ -1,0 +1,85 @@
+//! Generated content: a `[drop]` block's ragdolls and a `[[tile]]`'s copies, made when the
+//! scene is parsed so that the checks and the build see plain `[[ragdoll]]` and `[[body]]`
+//! entries.
+
+use super::{BodyDef, DropDef, RagdollDef, TileDef};
+use crate::math::quat_from_degrees;
+
+impl DropDef {
+    /// The ragdolls this block stands for.
+    pub(super) fn expand(&self) -> Vec<RagdollDef> {
+        let mut state = self
+            .seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        let mut random = move || {
+            // 64-bit LCG (Knuth's MMIX constants), top 24 bits as a float in [0, 1)
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let per_layer = (self.columns * self.rows).max(1);
+        (0..self.count)
+            .map(|i| {
+                let (layer, cell) = (i / per_layer, i % per_layer);
+                let (column, row) = (cell % self.columns.max(1), cell / self.columns.max(1));
+                let position = [
+                    self.first[0] + column as f32 * self.spacing[0],
+                    self.first[1] + layer as f32 * self.spacing[1],
+                    self.first[2] + row as f32 * self.spacing[2],
+                ];
+                let yaw = 360.0 * random();
+                let tip = self.max_tip * random();
+                let rotation = crate::math::rotation_vector(
+                    quat_from_degrees([0.0, yaw, 0.0]) * quat_from_degrees([tip, 0.0, 0.0]),
+                );
+                RagdollDef {
+                    name: format!("drop{i:02}"),
+                    spine: self.spine,
+                    joint_flavour: None,
+                    position,
+                    rotation: (rotation * 180.0 / std::f32::consts::PI).to_array(),
+                    pose: Default::default(),
+                    fixed: Vec::new(),
+                    spine_spring: Some(0.05),
+                    limb_spring: None,
+                    alpha_b: None,
+                    alpha_t: None,
+                    bend_stiffness: None,
+                    bend_damping: None,
+                    twist_stiffness: None,
+                    twist_damping: None,
+                    twist: None,
+                    rod_length: None,
+                    forces: Default::default(),
+                }
+            })
+            .collect()
+    }
+}
+
+impl TileDef {
+    /// Name of copy `(i, k)` of the group's body `body`.
+    pub(super) fn copy_name(&self, i: u32, k: u32, body: &str) -> String {
+        format!("{}_{i}_{k}_{body}", self.name)
+    }
+
+    /// The bodies this tile stands for.
+    pub(super) fn expand(&self) -> Vec<BodyDef> {
+        let mut out =
+            Vec::with_capacity(self.body.len() * (self.repeat[0] * self.repeat[1]) as usize);
+        for i in 0..self.repeat[0] {
+            for k in 0..self.repeat[1] {
+                for b in &self.body {
+                    let mut copy = b.clone();
+                    copy.name = self.copy_name(i, k, &b.name);
+                    copy.position[0] += i as f32 * self.spacing[0];
+                    copy.position[2] += k as f32 * self.spacing[1];
+                    out.push(copy);
+                }
+            }
+        }
+        out
+    }
+}
