@@ -1,0 +1,295 @@
+//! The command line's arguments (clap derive) and their value parsers.
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand};
+
+use crate::constraint::{JointFlavour, TwistMode};
+use crate::ragdoll::SpineKind;
+use crate::sim::Overrides;
+use crate::world::SolverKind;
+
+use super::tune;
+
+#[derive(Debug, Parser)]
+#[command(
+    name = "rodlab",
+    version,
+    about = "Rod constraints for simplified ragdolls (SCA 2013), recorded to Rerun"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+// The doc comments are `--help` text, where `<out>` is a placeholder, not HTML.
+#[allow(rustdoc::invalid_html_tags)]
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// The main job: every scene in a folder -> <out>/<scene>.rrd, plus a residual summary
+    /// (a scene with `ci_frames` runs that many frames, unless --frames).
+    All {
+        #[arg(long, default_value = "scenes")]
+        scenes: PathBuf,
+        #[arg(long, default_value = "recordings")]
+        out: PathBuf,
+        #[command(flatten)]
+        overrides: OverrideArgs,
+    },
+    /// Runs one scene and records it.
+    Run {
+        scene: PathBuf,
+        /// Run the scene's `[[variant]]` of this name (its settings, then the overrides below),
+        /// recorded as <scene>_<variant>.
+        #[arg(long)]
+        variant: Option<String>,
+        /// Record only the frames from this simulated time on (s; the run still starts at 0):
+        /// a smaller file of how a long run ends.
+        #[arg(long, value_parser = non_negative, default_value_t = 0.0)]
+        record_from: f32,
+        /// Let --save write over an existing file that is not an .rrd (never over the scene).
+        #[arg(long)]
+        force: bool,
+        #[command(flatten)]
+        overrides: OverrideArgs,
+        #[command(flatten)]
+        rerun: rerun::clap::RerunArgs,
+    },
+    /// Speed against accuracy: runs SCENE headless for every spine, joint flavour, time step
+    /// and iteration count -> <out>/<scene>_sweep.csv, .svg (chart) and .rrd.
+    Sweep(SweepArgs),
+    /// Tuning by eye: every combination of bend and twist settings (and iteration counts) as
+    /// one copy of the scene's rod-spine ragdoll on a labelled grid -> <out>/tune.rrd, .csv,
+    /// .svg, .png; or, with --match-psi / --match, the settings that settle at a bend.
+    Tune(tune::TuneArgs),
+    /// The stability suite: every case for every method, a verdict each -> <out>/stress.md,
+    /// <out>/stress.csv, and a recording of every run that is not stable (<out>/stress/).
+    Stress {
+        #[arg(long, default_value = "recordings")]
+        out: PathBuf,
+    },
+    /// Validates scene files without running them.
+    Check {
+        #[arg(required = true)]
+        scenes: Vec<PathBuf>,
+    },
+    /// Lists the files the main job writes, one per line (what CI checks and archives).
+    Outputs,
+}
+
+#[derive(Debug, Clone, Args)]
+pub struct SweepArgs {
+    pub scene: PathBuf,
+    /// Iteration counts, comma separated.
+    #[arg(long, value_delimiter = ',', default_value = "1,2,4,8,16,32",
+          value_parser = clap::value_parser!(u32).range(1..))]
+    pub iterations: Vec<u32>,
+    /// Spines, comma separated.
+    #[arg(long, value_delimiter = ',', default_value = "chain3,rod,single",
+          value_parser = parse_choice::<SpineKind>)]
+    pub spines: Vec<SpineKind>,
+    /// Joint flavours, comma separated.
+    #[arg(long, value_delimiter = ',', default_value = "cheap,exact",
+          value_parser = parse_choice::<JointFlavour>)]
+    pub joint: Vec<JointFlavour>,
+    /// Time steps (s), comma separated; default the scene's.
+    #[arg(long, value_delimiter = ',', value_parser = positive_seconds)]
+    pub dt: Vec<f32>,
+    /// Substeps per frame, comma separated (each substep runs the iterations).
+    #[arg(long, value_delimiter = ',', default_value = "1",
+          value_parser = clap::value_parser!(u32).range(1..))]
+    pub substeps: Vec<u32>,
+    /// Row solvers, comma separated: scalar, simd.
+    #[arg(long, value_delimiter = ',', default_value = "scalar",
+          value_parser = parse_choice::<SolverKind>)]
+    pub solver: Vec<SolverKind>,
+    /// Contact warm-start fractions (0 to 1), comma separated; default the scene's.
+    #[arg(long, value_delimiter = ',', value_parser = unit_interval)]
+    pub contact_warm_start: Vec<f32>,
+    /// Soft-contact frequencies (Hz, 0: hard), comma separated; default the scene's.
+    #[arg(long, value_delimiter = ',', value_parser = non_negative)]
+    pub contact_hertz: Vec<f32>,
+    /// Stacking rates (1/m, 0: the paper's contacts), comma separated; default the scene's.
+    #[arg(long, value_delimiter = ',', value_parser = stacking_rate)]
+    pub contact_stacking: Vec<f32>,
+    /// Worker threads of the solver; default rayon's (one per core).
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+    pub threads: Option<u64>,
+    /// Frames per run; default the scene's.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    pub frames: Option<u32>,
+    /// Runs per combination, pooled for the median step time.
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..))]
+    pub repeats: u32,
+    /// Another engine measured the same way (rapier).
+    #[arg(long)]
+    pub peer: Option<String>,
+    /// Run only shard I of N of the combinations (I/N, e.g. 2/3; combination k goes to shard
+    /// k mod N + 1); outputs get a _shardIofN suffix.
+    #[arg(long, value_parser = |s: &str| s.parse::<crate::shard::Shard>())]
+    pub shard: Option<crate::shard::Shard>,
+    #[arg(long, default_value = "recordings")]
+    pub out: PathBuf,
+}
+
+#[derive(Debug, Clone, Args)]
+pub struct OverrideArgs {
+    /// Solver iterations per substep (per frame with one substep).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    pub iterations: Option<u32>,
+    /// Substeps per frame, each of dt / N with all the iterations.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    pub substeps: Option<u32>,
+    /// Row solver: scalar or simd.
+    #[arg(long, value_parser = parse_choice::<SolverKind>)]
+    pub solver: Option<SolverKind>,
+    /// Sleeping of still islands: true or false (default: the scene's `sleep`).
+    #[arg(long)]
+    pub sleep: Option<bool>,
+    /// Fastest push out of deep contact overlap (m/s; inf: at once).
+    #[arg(long, value_parser = positive_speed)]
+    pub contact_push_speed: Option<f32>,
+    /// Fraction of their last impulses contacts start each substep with (0 to 1; default: the
+    /// scene's `contact_warm_start`).
+    #[arg(long, value_parser = unit_interval)]
+    pub contact_warm_start: Option<f32>,
+    /// Soft contacts' natural frequency (Hz; 0: hard, the paper's; default the scene's).
+    #[arg(long, value_parser = non_negative)]
+    pub contact_hertz: Option<f32>,
+    /// Soft contacts' damping ratio (default the scene's).
+    #[arg(long, value_parser = non_negative)]
+    pub contact_damping_ratio: Option<f32>,
+    /// Stacking (1/m): in a contact the lower body counts e^(k dh) times heavier, dh the
+    /// other's height above it (0: the paper's contact; default the scene's `contact_stacking`).
+    #[arg(long, value_parser = stacking_rate)]
+    pub contact_stacking: Option<f32>,
+    /// Joint damping, a dashpot across every joint (N m s/rad; 0: none, the paper's; default
+    /// the scene's `joint_damping`).
+    #[arg(long, value_parser = non_negative)]
+    pub joint_damping: Option<f32>,
+    /// Worker threads of the solver; default rayon's (one per core).
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+    pub threads: Option<u64>,
+    /// Time step (s).
+    #[arg(long, value_parser = positive_seconds)]
+    pub dt: Option<f32>,
+    /// Frames to simulate.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    pub frames: Option<u32>,
+    /// Spine of every ragdoll: chain3, rod or single.
+    #[arg(long, value_parser = parse_choice::<SpineKind>)]
+    pub spine: Option<SpineKind>,
+    /// Ball-and-socket solver: cheap or exact.
+    #[arg(long, value_parser = parse_choice::<JointFlavour>)]
+    pub joint: Option<JointFlavour>,
+    /// Rod bending relaxation alpha_b in [0, 1].
+    #[arg(long, value_parser = unit_interval)]
+    pub alpha_b: Option<f32>,
+    /// Rod twisting relaxation alpha_t in [0, 1].
+    #[arg(long, value_parser = unit_interval)]
+    pub alpha_t: Option<f32>,
+    /// Rod bending stiffness (N m/rad), solved in compliance form instead of alpha_b: the
+    /// same stiffness at any iteration count, time step or substep count.
+    #[arg(long, value_parser = positive_stiffness, conflicts_with = "alpha_b")]
+    pub bend_stiffness: Option<f32>,
+    /// Damping of the rod's bend rate (N m s/rad), with a bending stiffness.
+    #[arg(long, value_parser = non_negative)]
+    pub bend_damping: Option<f32>,
+    /// Rod twisting stiffness (N m/rad), instead of alpha_t.
+    #[arg(long, value_parser = positive_stiffness, conflicts_with = "alpha_t")]
+    pub twist_stiffness: Option<f32>,
+    /// Damping of the rod's twist rate (N m s/rad), with a twisting stiffness.
+    #[arg(long, value_parser = non_negative)]
+    pub twist_damping: Option<f32>,
+    /// Rod twist measure: exact or paper.
+    #[arg(long, value_parser = parse_choice::<TwistMode>)]
+    pub twist: Option<TwistMode>,
+    /// Record every N-th frame (frames 0, N, 2N, ...): a smaller file of a long run.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    pub record_every: Option<u32>,
+}
+
+/// Parses a choice the way scene files spell it (the enum's serde names).
+pub(crate) fn parse_choice<T: serde::de::DeserializeOwned>(s: &str) -> Result<T, String> {
+    use serde::de::IntoDeserializer;
+    T::deserialize(s.into_deserializer())
+        .map_err(|e: serde::de::value::Error| e.to_string().replace('`', "\""))
+}
+
+pub(super) fn unit_interval(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if (0.0..=1.0).contains(&v) => Ok(v),
+        Ok(v) => Err(format!("must lie in [0, 1], got {v}")),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
+pub(super) fn non_negative(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if v >= 0.0 && v.is_finite() => Ok(v),
+        Ok(v) => Err(format!("must be 0 or more, got {v}")),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
+fn positive_seconds(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if v > 0.0 && v.is_finite() => Ok(v),
+        Ok(v) => Err(format!("must be a positive number of seconds, got {v}")),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
+pub(super) fn positive_stiffness(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if v > 0.0 && v.is_finite() => Ok(v),
+        Ok(v) => Err(format!("must be a positive stiffness in N m/rad, got {v}")),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
+fn positive_speed(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if v > 0.0 => Ok(v),
+        Ok(v) => Err(format!("must be a positive speed in m/s (or inf), got {v}")),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
+fn stacking_rate(s: &str) -> Result<f32, String> {
+    let max = crate::scene::MAX_CONTACT_STACKING;
+    match s.parse::<f32>() {
+        Ok(v) if (0.0..=max).contains(&v) => Ok(v),
+        Ok(v) => Err(format!("must be a rate from 0 to {max} per metre, got {v}")),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
+impl From<&OverrideArgs> for Overrides {
+    fn from(a: &OverrideArgs) -> Self {
+        Overrides {
+            iterations: a.iterations,
+            substeps: a.substeps,
+            solver: a.solver,
+            sleep: a.sleep,
+            contact_push_speed: a.contact_push_speed,
+            contact_warm_start: a.contact_warm_start,
+            contact_hertz: a.contact_hertz,
+            contact_damping_ratio: a.contact_damping_ratio,
+            contact_stacking: a.contact_stacking,
+            joint_damping: a.joint_damping,
+            dt: a.dt,
+            frames: a.frames,
+            spine: a.spine,
+            joint_flavour: a.joint,
+            alpha_b: a.alpha_b,
+            alpha_t: a.alpha_t,
+            bend_stiffness: a.bend_stiffness,
+            bend_damping: a.bend_damping,
+            twist_stiffness: a.twist_stiffness,
+            twist_damping: a.twist_damping,
+            twist: a.twist,
+            record_every: a.record_every,
+        }
+    }
+}

@@ -1,0 +1,218 @@
+//! The main job (`rodlab`, `rodlab all`): every scene, per spine and `[[variant]]`, into
+//! recordings, with a residual summary; and the list of files it writes (`rodlab outputs`).
+
+use std::path::{Path, PathBuf};
+
+use anyhow::Context as _;
+
+use crate::constraint::JointFlavour;
+use crate::ragdoll::SpineKind;
+use crate::record;
+use crate::scene::Scene;
+use crate::shard::Shard;
+use crate::sim::{Overrides, RunReport};
+use crate::world::SolverKind;
+
+use super::run::{explain_write_failure, load_scene, record_scene};
+use super::summary::print_summary;
+use super::{stop, stress, sweep, tune};
+
+/// The main job: every scene recorded, then the passive-bending sweep.
+/// Scenes the main job sweeps, besides recording every scene.
+const SWEPT_SCENES: [&str; 2] = ["passive_bending", "ragdoll_drop"];
+
+/// The files [`main_job`] writes: every scene's recordings (one per spine and variant), each
+/// swept scene's table, chart and recording and feature costs, the tuning grid and the stress
+/// table (the stress suite's recordings of unstable runs vary, and are not listed).
+pub(super) fn main_job_outputs(scenes: &Path, out: &Path) -> anyhow::Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
+    for path in scene_files(scenes)? {
+        let scene = load_scene(&path, None, &Overrides::default())?;
+        for variant in variants(&scene, &Overrides::default())? {
+            files.push(out.join(format!("{}.rrd", variant.name())));
+        }
+    }
+    for name in SWEPT_SCENES {
+        for ext in ["csv", "svg", "png", "rrd"] {
+            files.push(out.join(format!("{name}_sweep.{ext}")));
+        }
+        files.push(out.join(format!("{name}_features.csv")));
+    }
+    for ext in ["rrd", "csv", "svg", "png"] {
+        files.push(out.join(format!("tune.{ext}")));
+    }
+    files.extend([out.join("stress.md"), out.join("stress.csv")]);
+    Ok(files)
+}
+
+pub(super) fn main_job() -> anyhow::Result<()> {
+    let (scenes, out) = (Path::new("scenes"), Path::new("recordings"));
+    run_all(scenes, out, &Overrides::default())?;
+    if stop::requested() {
+        return Ok(());
+    }
+    let [bending, drop] = SWEPT_SCENES.map(|name| scenes.join(format!("{name}.toml")));
+    let path = bending;
+    // the paper's one step a frame (the reference line) beside 4 substeps, on one cost axis
+    let config = crate::sweep::SweepConfig {
+        substeps: vec![1, 4],
+        ..Default::default()
+    };
+    sweep(&path, &config, None, Shard::ALL, out)?;
+    if stop::requested() {
+        return Ok(());
+    }
+    // the drop: the paper's method (one step a frame, cheap joints, the scalar solver, hard
+    // contacts) as the reference line, beside 4 substeps and contact stacking, over the fall,
+    // the landing and the first seconds of the pile
+    let config = crate::sweep::SweepConfig {
+        iterations: vec![2, 5, 20],
+        spines: vec![SpineKind::Chain3, SpineKind::Rod],
+        joints: vec![JointFlavour::Cheap],
+        substeps: vec![1, 4],
+        solvers: vec![SolverKind::Scalar],
+        contact_stacking: vec![0.0, 10.0],
+        frames: Some(300),
+        repeats: 1,
+        ..Default::default()
+    };
+    sweep(&drop, &config, None, Shard::ALL, out)?;
+    if stop::requested() {
+        return Ok(());
+    }
+    // the default tuning grid of passive bending's rod spine
+    let scene = Scene::load(&path)?;
+    tune::run_grid(&scene, &crate::tune::TuneConfig::default(), out)?;
+    stress(out)
+}
+
+/// The scene files (`*.toml`) in `dir`, sorted.
+fn scene_files(dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
+    let mut paths: Vec<PathBuf> = std::fs::read_dir(dir)
+        .with_context(|| format!("cannot list scenes in {}", dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    paths.sort();
+    anyhow::ensure!(
+        !paths.is_empty(),
+        "no scene files (*.toml) in {}",
+        dir.display()
+    );
+    Ok(paths)
+}
+
+pub(super) fn run_all(
+    scenes_dir: &Path,
+    out_dir: &Path,
+    overrides: &Overrides,
+) -> anyhow::Result<()> {
+    let paths = scene_files(scenes_dir)?;
+    let mut failures = Vec::new();
+    for path in &paths {
+        if stop::requested() {
+            break;
+        }
+        let result = load_scene(path, None, overrides).and_then(|mut scene| {
+            // heavy scenes give the main job a shorter run (`ci_frames`), unless --frames
+            if let (None, Some(n)) = (overrides.frames, scene.def.ci_frames) {
+                println!(
+                    "{}: main job runs {n} of its {} frames (ci_frames; `rodlab run` runs all)",
+                    scene.name(),
+                    scene.def.frames
+                );
+                scene.def.frames = n;
+            }
+            let mut reports = Vec::new();
+            for variant in variants(&scene, overrides)? {
+                if stop::requested() {
+                    break;
+                }
+                let name = variant.name();
+                let out = out_dir.join(format!("{name}.rrd"));
+                let started = std::time::Instant::now();
+                let report = record_scene(&variant, record::save_to(&out, &variant)?)
+                    .map_err(|e| explain_write_failure(Some(&out), e))?;
+                print_summary(&name, &variant, &report);
+                println!(
+                    "  -> {} ({:.1} s)",
+                    out.display(),
+                    started.elapsed().as_secs_f32()
+                );
+                reports.push((name, report));
+            }
+            // two spines: compare them, per method
+            if scene.def.spines.len() == 2 && overrides.spine.is_none() {
+                for pair in reports.chunks_exact(2) {
+                    let [(name_a, a), (name_b, b)] = pair else {
+                        unreachable!()
+                    };
+                    print_comparison(name_a, a, name_b, b);
+                }
+            }
+            Ok(())
+        });
+        if let Err(e) = result {
+            eprintln!("error: {e:#}");
+            failures.push(path.display().to_string());
+        }
+    }
+    anyhow::ensure!(
+        failures.is_empty(),
+        "{} scene(s) failed: {}",
+        failures.len(),
+        failures.join(", ")
+    );
+    Ok(())
+}
+
+/// The runs the main job makes of a scene: the scene's own method, then each `[[variant]]`
+/// (named `<scene>_<variant>`, the command line's overrides applied again on top); each once
+/// per spine listed in `spines` (named `<name>_<spine>`), unless the command line fixed the
+/// spine.
+fn variants(scene: &Scene, overrides: &Overrides) -> anyhow::Result<Vec<Scene>> {
+    let mut methods = vec![scene.clone()];
+    for variant in &scene.def.variant {
+        let mut method = scene.variant(&variant.name)?;
+        overrides.apply(&mut method.def);
+        methods.push(method);
+    }
+    if scene.def.spines.is_empty() || overrides.spine.is_some() {
+        return Ok(methods);
+    }
+    let mut runs = Vec::new();
+    for method in &methods {
+        for &spine in &method.def.spines {
+            let mut run = method.clone();
+            Overrides {
+                spine: Some(spine),
+                ..Default::default()
+            }
+            .apply(&mut run.def);
+            run.def.name = Some(format!("{}_{spine}", method.name()));
+            runs.push(run);
+        }
+    }
+    Ok(runs)
+}
+
+/// Mean total dislocation of two runs of one scene, and the share of frames where the second
+/// leaves less than the first (the paper's Fig. 8 comparison).
+fn print_comparison(name_a: &str, a: &RunReport, name_b: &str, b: &RunReport) {
+    let mean = |r: &RunReport| {
+        r.total_dislocation_cm.iter().sum::<f32>() / r.total_dislocation_cm.len().max(1) as f32
+    };
+    let frames = a
+        .total_dislocation_cm
+        .len()
+        .min(b.total_dislocation_cm.len());
+    let better = (0..frames)
+        .filter(|&i| b.total_dislocation_cm[i] < a.total_dislocation_cm[i])
+        .count();
+    println!(
+        "  total dislocation, mean over frames: {name_a} {:.3} cm, {name_b} {:.3} cm; {name_b} below {name_a} in {:.1}% of frames",
+        mean(a),
+        mean(b),
+        100.0 * better as f32 / frames.max(1) as f32
+    );
+}

@@ -1,0 +1,257 @@
+//! `rodlab run`: one scene into a recording (a file, a viewer, or stdout), with rows of
+//! residuals as it goes; and the guards on where a recording may be written.
+
+use std::path::Path;
+
+use anyhow::Context as _;
+use clap::{parser::ValueSource, ArgMatches};
+
+use crate::lab::Lab;
+use crate::metrics::FrameMetrics;
+use crate::record::{self, Recorder};
+use crate::scene::Scene;
+use crate::sim::{self, Observer, Overrides, RunReport};
+use crate::world::SimulationError;
+
+use super::stop;
+use super::summary::print_summary;
+
+/// Whether the user chose where the recording goes (otherwise we save to recordings/).
+pub(super) fn rerun_sink_given(matches: &ArgMatches) -> bool {
+    ["save", "spawn", "connect", "stdout"]
+        .iter()
+        .any(|id| matches!(matches.value_source(id), Some(ValueSource::CommandLine)))
+}
+
+/// A run that failed because its recording could not be written names the file and, probed
+/// with a small write beside it, the OS error (a full disk: "No space left on device").
+pub(super) fn explain_write_failure(out: Option<&Path>, e: anyhow::Error) -> anyhow::Error {
+    let Some(out) = out.filter(|_| format!("{e:#}").contains("could not be written")) else {
+        return e;
+    };
+    let dir = out
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let probe = dir.join(format!(".rodlab-write-probe-{}", std::process::id()));
+    let os_error = match std::fs::write(&probe, [0u8; 65536]) {
+        Ok(()) => "a probe write beside it succeeded".to_string(),
+        Err(io) => io.to_string(),
+    };
+    let _ = std::fs::remove_file(&probe);
+    e.context(format!("writing {}: {os_error}", out.display()))
+}
+
+/// Refuses to write a recording over the scene file being run, or (unless `force`) over an
+/// existing file that is not an `.rrd`.
+pub(super) fn check_output(out: &Path, scene: &Path, force: bool) -> anyhow::Result<()> {
+    let same = |a: &Path, b: &Path| match (a.canonicalize(), b.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    };
+    if same(out, scene) {
+        anyhow::bail!(
+            "--save {}: that is the scene being run; choose another file",
+            out.display()
+        );
+    }
+    let is_rrd = out.extension().is_some_and(|e| e == "rrd");
+    if out.exists() && !is_rrd && !force {
+        anyhow::bail!(
+            "--save {}: the file exists and is not an .rrd recording; pass --force to write over it",
+            out.display()
+        );
+    }
+    Ok(())
+}
+
+/// Loads a scene, at its `[[variant]]` `variant` if given, with the command line's overrides.
+pub fn load_scene(
+    path: &Path,
+    variant: Option<&str>,
+    overrides: &Overrides,
+) -> anyhow::Result<Scene> {
+    let mut scene = Scene::load(path)?;
+    if let Some(name) = variant {
+        scene = scene.variant(name)?;
+    }
+    overrides.apply(&mut scene.def);
+    (overrides.check_applied(&scene.def))
+        .map_err(|m| anyhow::anyhow!("{}: {m}", path.display()))?;
+    Ok(scene)
+}
+
+/// Runs `scene` into a recording; the recording stays readable if the run fails.
+pub fn record_scene(scene: &Scene, rec: rerun::RecordingStream) -> anyhow::Result<RunReport> {
+    record_scene_from(scene, rec, 0.0)
+}
+
+/// [`record_scene`], logging only the frames at or after the simulated time `from` (s).
+pub fn record_scene_from(
+    scene: &Scene,
+    rec: rerun::RecordingStream,
+    from: f32,
+) -> anyhow::Result<RunReport> {
+    record_scene_to(scene, rec, from, false)
+}
+
+/// [`record_scene_from`]; `live` (a viewer watching) sends every frame as it comes instead of
+/// a block per simulated second.
+fn record_scene_to(
+    scene: &Scene,
+    rec: rerun::RecordingStream,
+    from: f32,
+    live: bool,
+) -> anyhow::Result<RunReport> {
+    if scene.def.kinematics.is_some() {
+        let (equal, unequal) = record::record_kinematics(&rec, scene)?;
+        report!(
+            "  largest end gap from the rod: equal-angle chain {:.2} cm, unequal-angle chain {:.2} cm",
+            100.0 * equal,
+            100.0 * unequal
+        );
+        return Ok(RunReport {
+            frames: scene.def.frames,
+            ragdolls: Vec::new(),
+            initial_energy: 0.0,
+            final_energy: 0.0,
+            final_rods: Vec::new(),
+            total_dislocation_cm: Vec::new(),
+            max_penetration_cm: 0.0,
+            max_overlap_cm: 0.0,
+            step_seconds: 0.0,
+            awake_bodies: Vec::new(),
+            profile: Default::default(),
+            restless: Vec::new(),
+            state_hash: 0,
+        });
+    }
+    let mut lab = scene.build()?;
+    let mut recorder = Recorder::new(rec, &lab, scene)?;
+    recorder.live = live;
+    let mut late = FromTime {
+        inner: &mut recorder,
+        from: from as f64 - 0.5 * scene.def.dt as f64,
+    };
+    let mut observer = RowPrinter {
+        inner: &mut late,
+        every: scene.def.report_every,
+    };
+    let report = sim::run(&mut lab, scene.def.frames, &mut observer)
+        .with_context(|| format!("{}: simulation stopped", scene.path.display()))?;
+    recorder.finish(&report)?;
+    Ok(report)
+}
+
+/// Hands on the frames at or after the simulated time `from` (s) only; a failure always.
+struct FromTime<'a> {
+    inner: &'a mut dyn Observer,
+    from: f64,
+}
+
+impl Observer for FromTime<'_> {
+    fn begin(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()> {
+        match lab.world.time >= self.from {
+            true => self.inner.begin(lab, metrics),
+            false => Ok(()),
+        }
+    }
+
+    fn frame(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()> {
+        match lab.world.time >= self.from {
+            true => self.inner.frame(lab, metrics),
+            false => Ok(()),
+        }
+    }
+
+    fn failed(&mut self, lab: &Lab, error: &SimulationError) {
+        self.inner.failed(lab, error);
+    }
+}
+
+/// Prints one row of residuals per ragdoll every `every` frames, then hands on the frame.
+struct RowPrinter<'a> {
+    inner: &'a mut dyn Observer,
+    every: u32,
+}
+
+impl Observer for RowPrinter<'_> {
+    fn begin(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()> {
+        if self.every > 0 {
+            report!(
+                "  {:>6} {:>8} {:<14} {:>10} {:>10} {:>14}",
+                "frame",
+                "time s",
+                "ragdoll",
+                "disl. cm",
+                "ang. rad",
+                "pose dev. cm"
+            );
+        }
+        self.inner.begin(lab, metrics)
+    }
+
+    fn stop_requested(&self) -> bool {
+        stop::requested()
+    }
+
+    fn frame(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()> {
+        if self.every > 0 && lab.world.frame % self.every as u64 == 0 {
+            for (ragdoll, r) in lab.ragdolls.iter().zip(&metrics.ragdolls) {
+                report!(
+                    "  {:>6} {:>8.3} {:<14} {:>10.4} {:>10.5} {:>14.4}",
+                    lab.world.frame,
+                    lab.world.time,
+                    ragdoll.name,
+                    r.dislocation_cm,
+                    r.angular_rad,
+                    r.pose_deviation_cm
+                );
+            }
+        }
+        self.inner.frame(lab, metrics)
+    }
+
+    fn failed(&mut self, lab: &Lab, error: &SimulationError) {
+        self.inner.failed(lab, error)
+    }
+}
+
+pub(super) fn run_one(
+    scene: &Scene,
+    record_from: f32,
+    rerun_args: &rerun::clap::RerunArgs,
+    sink_given: bool,
+    save_path: Option<&Path>,
+) -> anyhow::Result<()> {
+    let name = scene.name();
+    let (rec, _serve_guard, out) = if let Some(path) = save_path {
+        // ours rather than `RerunArgs`' file sink: the same writer as the main job's
+        (
+            record::save_to(path, scene)?,
+            Default::default(),
+            Some(path.to_path_buf()),
+        )
+    } else if sink_given {
+        let (rec, guard) =
+            rerun_args.init_with_blueprint(record::APPLICATION_ID, record::blueprint(scene))?;
+        (rec, guard, None)
+    } else {
+        let out = Path::new("recordings").join(format!("{name}.rrd"));
+        eprintln!("recording to {}", out.display());
+        (record::save_to(&out, scene)?, Default::default(), Some(out))
+    };
+    // no file: a viewer (--spawn, --connect) or a pipe, sent frame by frame
+    let report = record_scene_to(scene, rec, record_from, out.is_none())
+        .map_err(|e| explain_write_failure(out.as_deref(), e))?;
+    print_summary(&name, scene, &report);
+    if stop::requested() {
+        report!(
+            "  stopped by {} after {} of {} frames",
+            stop::signal_name(),
+            report.frames,
+            scene.def.frames
+        );
+    }
+    Ok(())
+}
