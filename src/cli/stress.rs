@@ -67,7 +67,7 @@ pub(super) fn stress(out: &Path) -> anyhow::Result<()> {
     let machine = crate::sweep::machine_name();
     std::fs::write(
         &md_path,
-        format!("# rodlab stress suite\n\nMachine: {machine}. Criteria: README, section \"Where methods fail\".\n\n{markdown}"),
+        format!("# rodlab stress suite\n\nMachine: {machine}. Criteria: docs/lab.md, \"where methods fail\".\n\n{markdown}"),
     )
     .with_context(|| format!("cannot write {}", md_path.display()))?;
     std::fs::write(&csv_path, stress::table_csv(&outcomes))

@@ -1,6 +1,6 @@
 //! Recording to Rerun: the only module that uses `rerun`.
 //!
-//! Entity paths (documented in the README):
+//! Entity paths (documented in docs/recording.md):
 //! - `world/<group>/capsules|spheres|boxes`: one batched archetype per group (a ragdoll, or
 //!   `props` for free bodies); shapes logged once as static data, per-instance translations and
 //!   quaternions every frame;

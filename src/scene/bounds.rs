@@ -1,4 +1,4 @@
-//! The documented bounds of a scene's numbers (README, "Scene file format"): every number is
+//! The documented bounds of a scene's numbers (docs/scene-format.md): every number is
 //! finite (where infinity means nothing) and within a range that keeps the simulation in f32
 //! and the run finite. A value outside names its field; [`check_drop`] runs before the `[drop]`
 //! block is expanded, so a huge `count` is refused instead of allocated.

@@ -187,7 +187,7 @@ fn the_step_profile_accounts_for_the_step() {
 /// N m s/rad, sleeping on) the scene's pile (seed 7) is asleep, or has every surface point
 /// under the sleep speed, after its 10 s, with either spine. Not every layout manages it by
 /// 10 s: over seeds 1-12, 18 of the 24 piles (spine x seed) are all asleep by 10 s and all 24
-/// by 15 s (measured with a probe not kept; README, Sleeping). At rest the overlapping contact
+/// by 15 s (measured with a probe not kept; docs/solver.md, Sleeping). At rest the overlapping contact
 /// points overlap by under 2 mm on average (measured 0.63 mm chain3, 0.85 mm rod; 2.8-2.9 mm
 /// with 30 Hz contacts, which sink further under a pile).
 #[test]
@@ -252,7 +252,7 @@ fn the_drop_pile_falls_asleep_at_the_scenes_at_rest_variant() {
 /// 7, total over 30 ragdolls): chain3 62.9 -> 25.8 cm, rod 51.0 -> 17.9 cm, rod below chain3 on
 /// 300 of 300 settled frames; over seeds 7 / 1 / 2 / 3 the ratio is 0.41-0.65 (chain3) and
 /// 0.35-0.53 (rod), and the rod is lower on 1200 of their 1200 settled frames (a probe not
-/// kept; README, Stacking).
+/// kept; docs/solver.md, Stacking).
 #[test]
 fn stacking_leaves_less_than_two_thirds_of_the_papers_settled_dislocation() {
     let _alone = one_at_a_time();

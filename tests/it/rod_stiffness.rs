@@ -2,7 +2,7 @@
 //! the analytic twist period and damping decay, the analytic static bend of a cantilever, and
 //! the target: the settled bend of passive bending stays within 2% from 5 to 50
 //! iterations and from 1 to 8 substeps, where the paper's `alpha_b` does not (measured and
-//! printed here, reported in the README).
+//! printed here, reported in docs/tuning.md).
 
 use rodlab::body::{Body, BodyKind};
 use rodlab::constraint::{Constraint, LengthCorrection, Rod, Stiffness};
