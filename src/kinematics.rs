@@ -65,3 +65,67 @@ pub fn max_end_gap(length: f32, weights: &[f32], max_bend: f32, samples: usize) 
         })
         .fold(0.0, f32::max)
 }
+
+/// The Fig. 6 comparison, computed once: three spines (the equal-angle chain, the
+/// unequal-angle chain, the rod) at each bend of a sweep, and how far each chain's end lies
+/// from the rod's. Recording only draws it.
+#[derive(Clone, Debug)]
+pub struct Comparison {
+    /// Total bends (rad), evenly from `-max_bend` to `+max_bend`.
+    pub bends: Vec<f32>,
+    /// Per spine, its name and its points (root first) at each bend.
+    pub spines: [(&'static str, Vec<Vec<Vec3>>); 3],
+}
+
+impl Comparison {
+    /// Rod samples per bend: enough for a smooth arc at 150 degrees.
+    pub const ROD_SAMPLES: usize = 32;
+
+    /// The comparison for a spine of `length` (m) with `joints` joints, the unequal chain's
+    /// bend shares `unequal` (any positive scale), swept over `bends` (at least 2) bends in
+    /// [-`max_bend`, `max_bend`] (rad).
+    pub fn new(length: f32, joints: usize, unequal: &[f32], max_bend: f32, bends: usize) -> Self {
+        let bends = bends.max(2);
+        let total: f32 = unequal.iter().sum();
+        let unequal: Vec<f32> = unequal.iter().map(|w| w / total).collect();
+        let equal = equal_weights(joints);
+        let bends: Vec<f32> = (0..bends)
+            .map(|i| -max_bend + 2.0 * max_bend * i as f32 / (bends - 1) as f32)
+            .collect();
+        let along =
+            |shape: &dyn Fn(f32) -> Vec<Vec3>| bends.iter().map(|&psi| shape(psi)).collect();
+        Comparison {
+            spines: [
+                (
+                    "equal_chain",
+                    along(&|psi| chain_points(length, psi, &equal)),
+                ),
+                (
+                    "unequal_chain",
+                    along(&|psi| chain_points(length, psi, &unequal)),
+                ),
+                (
+                    "rod",
+                    along(&|psi| rod_points(length, psi, Self::ROD_SAMPLES)),
+                ),
+            ],
+            bends,
+        }
+    }
+
+    /// Distance (m) from spine `spine`'s end to the rod's end at bend `bend`.
+    pub fn end_gap(&self, spine: usize, bend: usize) -> f32 {
+        let end = |s: usize| *self.spines[s].1[bend].last().expect("a spine has points");
+        (end(spine) - end(2)).length()
+    }
+
+    /// Largest end gaps (m) over the sweep of the equal and the unequal chain.
+    pub fn largest_gaps(&self) -> (f32, f32) {
+        let largest = |s: usize| {
+            (0..self.bends.len())
+                .map(|i| self.end_gap(s, i))
+                .fold(0.0, f32::max)
+        };
+        (largest(0), largest(1))
+    }
+}

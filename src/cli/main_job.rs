@@ -13,7 +13,7 @@ use crate::shard::Shard;
 use crate::sim::{Overrides, RunReport};
 use crate::world::SolverKind;
 
-use super::run::{explain_write_failure, load_scene, record_scene};
+use super::run::{explain_write_failure, load_scene, record_kinematics_scene, record_scene};
 use super::summary::print_summary;
 use super::{stop, stress, sweep, tune};
 
@@ -131,6 +131,16 @@ pub(super) fn run_all(
                 let name = variant.name();
                 let out = out_dir.join(format!("{name}.rrd"));
                 let started = std::time::Instant::now();
+                if variant.def.kinematics.is_some() {
+                    record_kinematics_scene(&variant, &record::save_to(&out, &variant)?)
+                        .map_err(|e| explain_write_failure(Some(&out), e))?;
+                    println!(
+                        "  -> {} ({:.1} s)",
+                        out.display(),
+                        started.elapsed().as_secs_f32()
+                    );
+                    continue;
+                }
                 let report = record_scene(&variant, record::save_to(&out, &variant)?)
                     .map_err(|e| explain_write_failure(Some(&out), e))?;
                 print_summary(&name, &variant, &report);

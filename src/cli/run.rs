@@ -103,29 +103,11 @@ fn record_scene_to(
     from: f32,
     live: bool,
 ) -> anyhow::Result<RunReport> {
-    if scene.def.kinematics.is_some() {
-        let (equal, unequal) = record::record_kinematics(&rec, scene)?;
-        report!(
-            "  largest end gap from the rod: equal-angle chain {:.2} cm, unequal-angle chain {:.2} cm",
-            100.0 * equal,
-            100.0 * unequal
-        );
-        return Ok(RunReport {
-            frames: scene.def.frames,
-            ragdolls: Vec::new(),
-            initial_energy: 0.0,
-            final_energy: 0.0,
-            final_rods: Vec::new(),
-            total_dislocation_cm: Vec::new(),
-            max_penetration_cm: 0.0,
-            max_overlap_cm: 0.0,
-            step_seconds: 0.0,
-            awake_bodies: Vec::new(),
-            profile: Default::default(),
-            restless: Vec::new(),
-            state_hash: 0,
-        });
-    }
+    anyhow::ensure!(
+        scene.def.kinematics.is_none(),
+        "{}: a kinematics scene simulates nothing; record it with record_kinematics_scene",
+        scene.name()
+    );
     let mut lab = scene.build()?;
     let mut recorder = Recorder::new(rec, &lab, scene)?;
     recorder.live = live;
@@ -241,6 +223,10 @@ pub(super) fn run_one(
         eprintln!("recording to {}", out.display());
         (record::save_to(&out, scene)?, Default::default(), Some(out))
     };
+    if scene.def.kinematics.is_some() {
+        return record_kinematics_scene(scene, &rec)
+            .map_err(|e| explain_write_failure(out.as_deref(), e));
+    }
     // no file: a viewer (--spawn, --connect) or a pipe, sent frame by frame
     let report = record_scene_to(scene, rec, record_from, out.is_none())
         .map_err(|e| explain_write_failure(out.as_deref(), e))?;
@@ -253,5 +239,35 @@ pub(super) fn run_one(
             scene.def.frames
         );
     }
+    Ok(())
+}
+
+/// Records a kinematics scene (Fig. 6): the comparison computed by
+/// [`Comparison`](crate::kinematics::Comparison), drawn, and its largest end gaps printed.
+pub fn record_kinematics_scene(scene: &Scene, rec: &rerun::RecordingStream) -> anyhow::Result<()> {
+    let k = scene
+        .def
+        .kinematics
+        .as_ref()
+        .context("not a kinematics scene")?;
+    let comparison = crate::kinematics::Comparison::new(
+        k.length,
+        k.joints,
+        &k.unequal,
+        k.max_bend.to_radians(),
+        scene.def.frames as usize,
+    );
+    record::record_kinematics(rec, scene, &comparison)?;
+    let (equal, unequal) = comparison.largest_gaps();
+    report!(
+        "{}: {} bends recorded",
+        scene.name(),
+        comparison.bends.len()
+    );
+    report!(
+        "  largest end gap from the rod: equal-angle chain {:.2} cm, unequal-angle chain {:.2} cm",
+        100.0 * equal,
+        100.0 * unequal
+    );
     Ok(())
 }
