@@ -13,6 +13,7 @@ use crate::shape::Shape;
 pub struct BodyId(pub u32);
 
 impl BodyId {
+    /// The index as a `usize`, for indexing the world's body list.
     pub fn index(self) -> usize {
         self.0 as usize
     }
@@ -29,27 +30,38 @@ pub enum BodyKind {
     Kinematic,
 }
 
+/// A rigid body (paper §4): pose, velocities, mass properties and contact material.
 #[derive(Clone, Debug)]
 pub struct Body {
+    /// Name, used in error messages and reports.
     pub name: String,
+    /// Dynamic, fixed or kinematic.
     pub kind: BodyKind,
+    /// Collision and mass shape, in body space with the centre of mass at the origin.
     pub shape: Shape,
+    /// Mass m_i (kg); only a dynamic body's is used.
     pub mass: f32,
     /// Principal moments of inertia in body space.
     pub inertia: Vec3,
+    /// World position p_i of the centre of mass (m).
     pub position: Vec3,
+    /// Unit quaternion q_i turning body space into world space.
     pub orientation: Quat,
+    /// Velocity of the centre of mass (m/s, world).
     pub linear_velocity: Vec3,
+    /// Angular velocity (rad/s, world axes).
     pub angular_velocity: Vec3,
     /// External force applied every step until changed (N), on top of gravity.
     pub external_force: Vec3,
     /// Coulomb friction coefficients (combined per pair as geometric means).
     pub static_friction: f32,
+    /// Sliding friction coefficient mu_d: the cap on friction once the static cone is exceeded.
     pub dynamic_friction: f32,
     /// Coefficient of restitution in [0, 1] (a pair uses the larger of its two).
     pub restitution: f32,
     /// Collision filter: a pair collides if each one's group bits meet the other's mask bits.
     pub collision_group: u32,
+    /// Collision filter mask bits, tested against the other body's group bits.
     pub collision_mask: u32,
     // --- Derived solver data (kept current by the solver) ---
     pub(crate) inverse_mass: f32,
@@ -113,6 +125,7 @@ impl Body {
         body
     }
 
+    /// [`Body::set_pose`] in builder form.
     pub fn with_pose(mut self, position: Vec3, orientation: Quat) -> Self {
         self.set_pose(position, orientation);
         self
@@ -142,6 +155,7 @@ impl Body {
         self.update_world_inertia();
     }
 
+    /// Whether the body is dynamic (asleep or awake).
     pub fn is_dynamic(&self) -> bool {
         self.kind == BodyKind::Dynamic
     }
@@ -169,10 +183,13 @@ impl Body {
                 && (self.linear_velocity != Vec3::ZERO || self.angular_velocity != Vec3::ZERO))
     }
 
+    /// 1 / m (1/kg); zero unless dynamic.
     pub fn inverse_mass(&self) -> f32 {
         self.inverse_mass
     }
 
+    /// World inverse inertia `R I^-1 R^T` (1/(kg m^2)) at the preview orientation it was last
+    /// refreshed from; zero unless dynamic.
     pub fn inverse_inertia_world(&self) -> Mat3 {
         self.inverse_inertia_world
     }
@@ -190,6 +207,7 @@ impl Body {
             r * Mat3::from_diagonal(self.inverse_inertia_body) * r.transpose();
     }
 
+    /// Linear momentum `m v` (kg m/s).
     pub fn linear_momentum(&self) -> Vec3 {
         self.mass * self.linear_velocity
     }
@@ -199,6 +217,7 @@ impl Body {
         self.inertia_world() * self.angular_velocity + self.position.cross(self.linear_momentum())
     }
 
+    /// Kinetic energy, translational plus rotational (J); zero unless dynamic.
     pub fn kinetic_energy(&self) -> f32 {
         if !self.is_dynamic() {
             return 0.0;

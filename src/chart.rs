@@ -30,17 +30,26 @@ const MIDDLE: &str = r#"text-anchor="middle""#;
 
 /// One line of the chart: a label and its points (x, y), drawn in the given order.
 pub struct Series {
+    /// Legend text (cut to fit the legend).
     pub label: String,
+    /// Points (x, y) in data units; one that is not finite, or not positive on a log axis, is
+    /// skipped.
     pub points: Vec<(f64, f64)>,
 }
 
+/// A line chart of [`Series`], rendered by [`Chart::to_svg`].
 pub struct Chart {
+    /// Title above the plot.
     pub title: String,
+    /// Label under the x axis.
     pub x_label: String,
+    /// Label beside the y axis.
     pub y_label: String,
     /// log10 axis when true
     pub x_log: bool,
+    /// log10 y axis when true
     pub y_log: bool,
+    /// The lines, in drawing order; line i takes colour `PALETTE[i % 8]`.
     pub series: Vec<Series>,
 }
 

@@ -8,8 +8,10 @@ use crate::body::BodyId;
 use crate::ragdoll::{build_humanoid, HumanoidSpec, Ragdoll};
 use crate::world::{SimulationError, World};
 
+/// A world and the ragdolls built in it.
 #[derive(Clone, Debug)]
 pub struct Lab {
+    /// The physics: bodies, constraints, contacts and settings.
     pub world: World,
     /// Groups of the world's bodies and constraints, in build order.
     pub ragdolls: Vec<Ragdoll>,

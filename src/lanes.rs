@@ -22,8 +22,10 @@ pub const MAX_LANES: usize = 16;
 /// measured no faster than 4 lanes.
 #[cfg(target_feature = "avx512f")]
 pub type Wide = wide::f32x16;
+/// The solver's lane type on a build with AVX but not AVX-512 (see the AVX-512 case above).
 #[cfg(all(target_feature = "avx", not(target_feature = "avx512f")))]
 pub type Wide = wide::f32x8;
+/// The solver's lane type on a build without AVX (see the AVX-512 case above).
 #[cfg(not(target_feature = "avx"))]
 pub type Wide = wide::f32x4;
 
@@ -123,26 +125,40 @@ pub trait Lane:
     + BitAnd<Output = Self>
     + BitOr<Output = Self>
 {
+    /// Number of lanes.
     const W: usize;
+    /// All lanes set to `x`.
     fn splat(x: f32) -> Self;
     /// Lane `i` from `f(i)`.
     fn from_fn(f: impl FnMut(usize) -> f32) -> Self;
+    /// Lane `i`'s value.
     fn lane(self, i: usize) -> f32;
+    /// Per-lane square root.
     fn sqrt(self) -> Self;
     /// `1 / sqrt(self)` from the hardware estimate (12 bits) and one Newton step (about 22).
     fn recip_sqrt_newton(self) -> Self;
+    /// Per-lane absolute value.
     fn abs(self) -> Self;
+    /// Per-lane maximum.
     fn max(self, o: Self) -> Self;
+    /// Per-lane minimum.
     fn min(self, o: Self) -> Self;
+    /// Mask of the lanes where `self < o`.
     fn lt(self, o: Self) -> Self;
+    /// Mask of the lanes where `self > o`.
     fn gt(self, o: Self) -> Self;
+    /// Mask of the lanes where `self <= o`.
     fn le(self, o: Self) -> Self;
     /// Per lane: `t` where the mask `self` is set, else `f`.
     fn select(self, t: Self, f: Self) -> Self;
+    /// Per-lane `atan2(self, x)` (rad), `self` being y.
     fn atan2(self, x: Self) -> Self;
+    /// Per-lane sine and cosine of `self` (rad).
     fn sin_cos(self) -> (Self, Self);
+    /// Whether any lane of the mask is set.
     fn any(self) -> bool;
 
+    /// All lanes zero.
     #[inline(always)]
     fn zero() -> Self {
         Self::splat(0.0)
@@ -260,16 +276,21 @@ impl Transpose4 for wide::f32x16 {
 /// `Vec3` with one lane per constraint.
 #[derive(Clone, Copy, Debug)]
 pub struct V3<L> {
+    /// x components, one per lane.
     pub x: L,
+    /// y components, one per lane.
     pub y: L,
+    /// z components, one per lane.
     pub z: L,
 }
 
 impl<L: Lane> V3<L> {
+    /// The zero vector in every lane.
     #[inline(always)]
     pub fn zero() -> Self {
         Self::splat(Vec3::ZERO)
     }
+    /// `v` in every lane.
     #[inline(always)]
     pub fn splat(v: Vec3) -> Self {
         V3 {
@@ -278,6 +299,7 @@ impl<L: Lane> V3<L> {
             z: L::splat(v.z),
         }
     }
+    /// Lane `i` from `f(i)`.
     #[inline(always)]
     pub fn from_fn(mut f: impl FnMut(usize) -> Vec3) -> Self {
         let mut v = [Vec3::ZERO; MAX_LANES];
@@ -290,14 +312,17 @@ impl<L: Lane> V3<L> {
             z: L::from_fn(|i| v[i].z),
         }
     }
+    /// Lane `i` as a `Vec3`.
     #[inline(always)]
     pub fn lane(&self, i: usize) -> Vec3 {
         Vec3::new(self.x.lane(i), self.y.lane(i), self.z.lane(i))
     }
+    /// Per-lane dot product.
     #[inline(always)]
     pub fn dot(self, o: Self) -> L {
         self.x * o.x + self.y * o.y + self.z * o.z
     }
+    /// Per-lane cross product `self x o`.
     #[inline(always)]
     pub fn cross(self, o: Self) -> Self {
         V3 {
@@ -306,14 +331,17 @@ impl<L: Lane> V3<L> {
             z: self.x * o.y - self.y * o.x,
         }
     }
+    /// Per-lane squared length.
     #[inline(always)]
     pub fn length_squared(self) -> L {
         self.dot(self)
     }
+    /// Per-lane length.
     #[inline(always)]
     pub fn length(self) -> L {
         self.dot(self).sqrt()
     }
+    /// Each lane scaled by its lane of `s`.
     #[inline(always)]
     pub fn scale(self, s: L) -> Self {
         V3 {
@@ -332,6 +360,7 @@ impl<L: Lane> V3<L> {
         let unit = self.scale(L::splat(1.0) / length.max(L::splat(eps)));
         (V3::select(ok, unit, fallback), length)
     }
+    /// Per lane: `t` where `mask` is set, else `f`.
     #[inline(always)]
     pub fn select(mask: L, t: Self, f: Self) -> Self {
         V3 {
@@ -395,13 +424,18 @@ impl<L: Lane> Neg for V3<L> {
 /// `Quat` with one lane per constraint.
 #[derive(Clone, Copy, Debug)]
 pub struct Q<L> {
+    /// x components, one per lane.
     pub x: L,
+    /// y components, one per lane.
     pub y: L,
+    /// z components, one per lane.
     pub z: L,
+    /// w (scalar) components, one per lane.
     pub w: L,
 }
 
 impl<L: Lane> Q<L> {
+    /// Lane `i` from `f(i)`.
     #[inline(always)]
     pub fn from_fn(mut f: impl FnMut(usize) -> Quat) -> Self {
         let mut v = [Quat::IDENTITY; MAX_LANES];
@@ -415,6 +449,7 @@ impl<L: Lane> Q<L> {
             w: L::from_fn(|i| v[i].w),
         }
     }
+    /// Lane `i` as a `Quat`.
     #[inline(always)]
     pub fn lane(&self, i: usize) -> Quat {
         Quat::from_xyzw(
@@ -424,6 +459,7 @@ impl<L: Lane> Q<L> {
             self.w.lane(i),
         )
     }
+    /// The vector part (x, y, z).
     #[inline(always)]
     pub fn xyz(self) -> V3<L> {
         V3 {
@@ -432,6 +468,7 @@ impl<L: Lane> Q<L> {
             z: self.z,
         }
     }
+    /// The conjugate, the inverse of a unit quaternion.
     #[inline(always)]
     pub fn conjugate(self) -> Self {
         Q {
@@ -470,6 +507,7 @@ impl<L: Lane> Q<L> {
             z: two * (self.x * self.z - self.w * self.y),
         }
     }
+    /// Renormalised to unit length by a Newton-refined inverse square root (for near-unit inputs).
     #[inline(always)]
     pub fn normalize(self) -> Self {
         // the quaternions renormalised here are within a small turn of unit length, so the
@@ -529,15 +567,22 @@ impl<L: Lane> Q<L> {
 /// A symmetric 3x3 matrix (world inverse inertia), one lane per constraint.
 #[derive(Clone, Copy, Debug)]
 pub struct SymM3<L> {
+    /// Entry (0, 0), one per lane.
     pub xx: L,
+    /// Entry (1, 1), one per lane.
     pub yy: L,
+    /// Entry (2, 2), one per lane.
     pub zz: L,
+    /// Entry (0, 1) = (1, 0), one per lane.
     pub xy: L,
+    /// Entry (0, 2) = (2, 0), one per lane.
     pub xz: L,
+    /// Entry (1, 2) = (2, 1), one per lane.
     pub yz: L,
 }
 
 impl<L: Lane> SymM3<L> {
+    /// Per-lane product `self * v`.
     #[inline(always)]
     pub fn mul_vec(&self, v: V3<L>) -> V3<L> {
         V3 {
@@ -551,11 +596,18 @@ impl<L: Lane> SymM3<L> {
 /// W solver bodies, one per lane, gathered by index.
 #[derive(Clone, Copy, Debug)]
 pub struct BodyLanes<L> {
+    /// Preview position p* (m).
     pub position: V3<L>,
+    /// Preview orientation q*.
     pub orientation: Q<L>,
+    /// Orientation predicted at the substep's start, before any correction.
     pub predicted: Q<L>,
+    /// Sum of the rotation vectors applied this substep (rad); `orientation` is `predicted` turned
+    /// by it.
     pub rotation_correction: V3<L>,
+    /// Inverse mass (1/kg); zero for immovable bodies.
     pub inverse_mass: L,
+    /// World inverse inertia (1/(kg m^2)).
     pub inverse_inertia: SymM3<L>,
 }
 
@@ -670,12 +722,14 @@ impl<L: Lane> BodyLanes<L> {
         self.rotate_preview(dtheta);
     }
 
+    /// `SolverBody::positional_inverse_mass` per lane: `1/m + (r x n) . I^-1 (r x n)`.
     #[inline(always)]
     pub fn positional_inverse_mass(&self, r: V3<L>, n: V3<L>) -> L {
         let rn = r.cross(n);
         self.inverse_mass + rn.dot(self.inverse_inertia.mul_vec(rn))
     }
 
+    /// `SolverBody::angular_inverse_mass` per lane: `g . I^-1 g`.
     #[inline(always)]
     pub fn angular_inverse_mass(&self, g: V3<L>) -> L {
         g.dot(self.inverse_inertia.mul_vec(g))

@@ -35,6 +35,8 @@
 //! - [`stress`]: the stability suite, a verdict per method;
 //! - [`record`]: Rerun recording; [`cli`]: the command line.
 
+#![deny(missing_docs)]
+
 pub mod body;
 pub mod chart;
 pub mod cli;

@@ -6,16 +6,20 @@ pub use glam::{Mat3, Quat, Vec3};
 /// A rigid transform: rotation then translation.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Iso {
+    /// Translation (m), applied after the rotation.
     pub translation: Vec3,
+    /// Rotation (unit quaternion).
     pub rotation: Quat,
 }
 
 impl Iso {
+    /// The transform that changes nothing.
     pub const IDENTITY: Iso = Iso {
         translation: Vec3::ZERO,
         rotation: Quat::IDENTITY,
     };
 
+    /// A transform from its translation and rotation.
     pub fn new(translation: Vec3, rotation: Quat) -> Self {
         Self {
             translation,
@@ -23,10 +27,12 @@ impl Iso {
         }
     }
 
+    /// Maps point `p`: `R p + t`.
     pub fn transform_point(&self, p: Vec3) -> Vec3 {
         self.rotation * p + self.translation
     }
 
+    /// The inverse transform.
     pub fn inverse(&self) -> Iso {
         let rotation = self.rotation.inverse();
         Iso {

@@ -15,13 +15,16 @@ use crate::world::World;
 /// Residual of one ragdoll in the units the paper plots.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Residual {
+    /// Dislocation summed over the ragdoll's constraints (cm).
     pub dislocation_cm: f32,
+    /// Angular violation summed over the ragdoll's constraints (rad).
     pub angular_rad: f32,
     /// Mean distance of the ragdoll's bodies from their starting positions (cm): the deviation
     /// from the target pose in the controllability experiment (Fig. 7).
     pub pose_deviation_cm: f32,
 }
 
+/// The residual of `ragdoll`'s constraints at the bodies' poses, and its pose deviation.
 pub fn ragdoll_residual(world: &World, ragdoll: &Ragdoll) -> Residual {
     let mut total = Violation::default();
     for constraint in &world.constraints[ragdoll.constraints.clone()] {
@@ -44,7 +47,9 @@ pub fn ragdoll_residual(world: &World, ragdoll: &Ragdoll) -> Residual {
 pub struct FrameMetrics {
     /// One per ragdoll, in `lab.ragdolls` order.
     pub ragdolls: Vec<Residual>,
+    /// Kinetic energy of all bodies (J).
     pub kinetic_energy: f32,
+    /// Gravitational potential energy of all bodies (J), zero at the origin.
     pub potential_energy: f32,
     /// One per rod constraint, in constraint order.
     pub rods: Vec<RodState>,
@@ -98,6 +103,7 @@ impl FrameMetrics {
         })
     }
 
+    /// Kinetic plus potential energy (J).
     pub fn total_energy(&self) -> f32 {
         self.kinetic_energy + self.potential_energy
     }
@@ -106,16 +112,24 @@ impl FrameMetrics {
 /// Running statistics of a residual series, for printed summaries.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Summary {
+    /// Frames added so far.
     pub frames: u32,
+    /// Sum of the dislocations (cm).
     pub dislocation_sum: f64,
+    /// Largest dislocation (cm).
     pub dislocation_max: f32,
+    /// Sum of the angular violations (rad).
     pub angular_sum: f64,
+    /// Largest angular violation (rad).
     pub angular_max: f32,
+    /// Sum of the pose deviations (cm).
     pub deviation_sum: f64,
+    /// Largest pose deviation (cm).
     pub deviation_max: f32,
 }
 
 impl Summary {
+    /// Adds one frame's residual.
     pub fn add(&mut self, r: Residual) {
         self.frames += 1;
         self.dislocation_sum += r.dislocation_cm as f64;
@@ -126,14 +140,17 @@ impl Summary {
         self.deviation_max = self.deviation_max.max(r.pose_deviation_cm);
     }
 
+    /// Mean pose deviation over the frames added (cm).
     pub fn mean_pose_deviation_cm(&self) -> f64 {
         self.deviation_sum / self.frames.max(1) as f64
     }
 
+    /// Mean dislocation over the frames added (cm).
     pub fn mean_dislocation_cm(&self) -> f64 {
         self.dislocation_sum / self.frames.max(1) as f64
     }
 
+    /// Mean angular violation over the frames added (rad).
     pub fn mean_angular_rad(&self) -> f64 {
         self.angular_sum / self.frames.max(1) as f64
     }

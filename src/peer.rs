@@ -63,6 +63,7 @@ use crate::world::{Settings, World};
 
 /// A rodlab world rebuilt in Rapier; body `i` of the world is `handles[i]`.
 pub struct RapierWorld {
+    /// Rapier's bodies, colliders, joints and pipeline.
     pub physics: PhysicsWorld,
     handles: Vec<RigidBodyHandle>,
 }

@@ -31,12 +31,16 @@ use crate::shape::{Axis, Shape};
 use crate::skeleton::Skeleton;
 use crate::world::World;
 
+/// How the humanoid's spine between pelvis and chest is built.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Default)]
 #[serde(rename_all = "lowercase")]
 pub enum SpineKind {
+    /// Pelvis - lower spine - upper spine - chest, three ball-and-socket joints.
     #[default]
     Chain3,
+    /// Pelvis - chest joined by one rod constraint (§5), instantiated at the starting pose (§6).
     Rod,
+    /// Pelvis - chest, one ball-and-socket with the three spine joints' ranges added up.
     Single,
 }
 
@@ -53,8 +57,11 @@ impl std::fmt::Display for SpineKind {
 /// What to build.
 #[derive(Clone, Debug)]
 pub struct HumanoidSpec {
+    /// Ragdoll name; prefixes its bodies' and constraints' names (`name/part`).
     pub name: String,
+    /// Which spine to build.
     pub spine: SpineKind,
+    /// How the ball-and-socket joints' point part is solved.
     pub joint_flavour: JointFlavour,
     /// Applied to the whole standing reference pose.
     pub root: Iso,
@@ -75,12 +82,17 @@ pub struct HumanoidSpec {
 /// The rod spine's soft-constraint relaxations and twist measure.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RodParams {
+    /// Bending relaxation alpha_b in [0, 1] (eq. 11); default 0.1.
     pub alpha_bend: f32,
+    /// Twisting relaxation alpha_t in [0, 1] (eq. 12-13); default 0.5.
     pub alpha_twist: f32,
     /// Stiffness in physical units, replacing the alphas where set.
     pub bend_stiffness: Option<Stiffness>,
+    /// Twisting stiffness, replacing `alpha_twist` where set.
     pub twist_stiffness: Option<Stiffness>,
+    /// How the twist tau is measured; default exact.
     pub twist_mode: TwistMode,
+    /// How the length constraint (eq. 9) is corrected; default the paper's offset correction.
     pub length_correction: LengthCorrection,
 }
 
@@ -98,6 +110,8 @@ impl Default for RodParams {
 }
 
 impl HumanoidSpec {
+    /// The standing reference pose (identity root) with no joint rotations, springs, fixed parts
+    /// or forces, exact joints and the default rod parameters.
     pub fn new(name: impl Into<String>, spine: SpineKind) -> Self {
         HumanoidSpec {
             name: name.into(),
@@ -117,9 +131,13 @@ impl HumanoidSpec {
 /// A built ragdoll: which bodies and constraints of the world are its own.
 #[derive(Clone, Debug)]
 pub struct Ragdoll {
+    /// Ragdoll name, the prefix of its bodies' and constraints' names.
     pub name: String,
+    /// Its spine.
     pub spine: SpineKind,
+    /// Indices of its bodies in the world's bodies.
     pub bodies: Range<usize>,
+    /// Indices of its constraints in the world's constraints.
     pub constraints: Range<usize>,
     /// The animation skeleton between hips and chest (§6); None for plain groups of bodies.
     pub skeleton: Option<Skeleton>,
@@ -128,6 +146,7 @@ pub struct Ragdoll {
 }
 
 impl Ragdoll {
+    /// Ids of its bodies.
     pub fn body_ids(&self) -> impl Iterator<Item = BodyId> + '_ {
         self.bodies.clone().map(|i| BodyId(i as u32))
     }

@@ -7,12 +7,16 @@ use serde::Deserialize;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Axis {
+    /// Body-space x axis.
     X,
+    /// Body-space y axis.
     Y,
+    /// Body-space z axis.
     Z,
 }
 
 impl Axis {
+    /// The axis as a unit vector.
     pub fn unit(self) -> Vec3 {
         match self {
             Axis::X => Vec3::X,
@@ -25,16 +29,23 @@ impl Axis {
 /// A body's shape. Capsules and boxes are centred on the body's origin.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Shape {
+    /// A ball.
     Sphere {
+        /// Radius (m).
         radius: f32,
     },
     /// `half_height` is half the distance between the two cap centres.
     Capsule {
+        /// Half the distance between the cap centres (m).
         half_height: f32,
+        /// Radius of the caps and the cylinder (m).
         radius: f32,
+        /// Body-space axis through the two cap centres.
         axis: Axis,
     },
+    /// A box.
     Cuboid {
+        /// Half the box's size along each body axis (m).
         half_extents: Vec3,
     },
     /// The solid below the plane through the body's origin with normal `+Y` (body space); for
@@ -43,6 +54,7 @@ pub enum Shape {
 }
 
 impl Shape {
+    /// Volume (m^3); infinite for a half-space.
     pub fn volume(&self) -> f32 {
         use std::f32::consts::PI;
         match *self {

@@ -5,11 +5,14 @@
 /// Shard `index` of `count` (1-based), `1/1` runs everything.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Shard {
+    /// Which shard this is, from 1 to `count`.
     pub index: usize,
+    /// Number of shards.
     pub count: usize,
 }
 
 impl Shard {
+    /// The one shard that runs everything.
     pub const ALL: Shard = Shard { index: 1, count: 1 };
 
     /// Whether this shard runs combination `i` (0-based).

@@ -13,6 +13,7 @@ pub trait Observer {
     fn begin(&mut self, _lab: &Lab, _metrics: &FrameMetrics) -> anyhow::Result<()> {
         Ok(())
     }
+    /// Called after every frame's step and measure.
     fn frame(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()>;
     /// Called when the simulation fails, after the last good frame was observed.
     fn failed(&mut self, _lab: &Lab, _error: &SimulationError) {}
@@ -42,16 +43,24 @@ impl<F: FnMut(&Lab, &FrameMetrics)> Observer for F {
 /// Residual statistics of one ragdoll over a run.
 #[derive(Clone, Debug)]
 pub struct RagdollReport {
+    /// The ragdoll's name.
     pub name: String,
+    /// The ragdoll's spine kind.
     pub spine: SpineKind,
+    /// Residual statistics over the frames stepped (the start, frame 0, excluded).
     pub summary: Summary,
 }
 
+/// What a run measured: residual statistics, energies, timings and the final state.
 #[derive(Clone, Debug)]
 pub struct RunReport {
+    /// Frames stepped (fewer than asked if the observer stopped the run).
     pub frames: u32,
+    /// Per ragdoll, in `lab.ragdolls` order.
     pub ragdolls: Vec<RagdollReport>,
+    /// Total energy (J) before the first step.
     pub initial_energy: f32,
+    /// Total energy (J) after the last frame.
     pub final_energy: f32,
     /// Final state of every rod, in constraint order.
     pub final_rods: Vec<crate::constraint::RodState>,

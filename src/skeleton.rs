@@ -24,9 +24,11 @@ use crate::constraint::Constraint;
 use crate::math::{Iso, Quat, Vec3};
 use crate::world::World;
 
+/// The animation bones of the spine region, pelvis to chest.
 pub const BONE_NAMES: [&str; BONES] = [
     "pelvis", "spine_0", "spine_1", "spine_2", "spine_3", "chest",
 ];
+/// Number of animation bones in the spine region.
 pub const BONES: usize = 6;
 
 /// Reference-pose bone origins (y, m).
@@ -34,15 +36,21 @@ pub fn reference_heights() -> [f32; BONES] {
     std::array::from_fn(|i| 1.060 + (1.270 - 1.060) * i as f32 / (BONES - 1) as f32)
 }
 
+/// How the bones are posed back from the physics (see the module docs).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum BoneMethod {
+    /// Each bone follows its body one to one.
     Rigid,
+    /// §6: the rotation changes of pelvis and chest interpolated along the chain, lengths kept.
     Orientation,
+    /// §6: as `Orientation`, plus the chest-end gap shared out along the chain.
     OrientationPosition,
+    /// Each bone rides the rod's arc (beyond the paper).
     Arc,
 }
 
 impl BoneMethod {
+    /// Lower-case name, as in the metrics series and recordings.
     pub fn name(self) -> &'static str {
         match self {
             BoneMethod::Rigid => "rigid",
@@ -56,10 +64,13 @@ impl BoneMethod {
 /// World bone poses.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Bones {
+    /// World origin of each bone (m), pelvis first.
     pub origins: [Vec3; BONES],
+    /// World rotation of each bone.
     pub rotations: [Quat; BONES],
 }
 
+/// How far posed-back bones are from the physics.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct BoneError {
     /// Sum over bones of | |o_k+1 - o_k| - L_k | (cm).
@@ -68,6 +79,7 @@ pub struct BoneError {
     pub chest_gap_cm: f32,
 }
 
+/// The animation skeleton of one ragdoll, attached to its physics bodies at the transition.
 #[derive(Clone, Debug)]
 pub struct Skeleton {
     /// Body each bone follows rigidly, and the bone's pose in that body's frame.
@@ -141,6 +153,7 @@ impl Skeleton {
         skeleton
     }
 
+    /// The mapping methods that apply: the three rod methods for a rod spine, else `Rigid`.
     pub fn methods(&self) -> &'static [BoneMethod] {
         if self.rod.is_some() {
             &[
@@ -153,6 +166,7 @@ impl Skeleton {
         }
     }
 
+    /// World bone poses by `method`.
     pub fn pose(&self, world: &World, method: BoneMethod) -> Bones {
         match method {
             BoneMethod::Rigid => self.rigid(world),
@@ -162,6 +176,7 @@ impl Skeleton {
         }
     }
 
+    /// The bone length error and chest-end gap of `bones`.
     pub fn error(&self, world: &World, bones: &Bones) -> BoneError {
         let length: f32 = (0..BONES - 1)
             .map(|k| ((bones.origins[k + 1] - bones.origins[k]).length() - self.lengths[k]).abs())

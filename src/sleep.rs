@@ -60,6 +60,7 @@ pub const SLEEP_REACH: f32 = SLEEP_SPEED * TIME_TO_SLEEP;
 /// moves its surface, while the same turn across the axis swings its ends).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Restless {
+    /// Which body.
     pub body: BodyId,
     /// Fastest surface point (m/s), as the sleep timers read it.
     pub point_speed: f32,
@@ -67,6 +68,7 @@ pub struct Restless {
     pub centre_speed: f32,
     /// Angular speed (rad/s) about a capsule's own axis (zero for other shapes), and across it.
     pub axial_spin: f32,
+    /// Angular speed (rad/s) across a capsule's axis (all of it for other shapes).
     pub cross_spin: f32,
 }
 

@@ -168,6 +168,7 @@ unsafe impl<T: Send> Send for SharedSlice<T> {}
 unsafe impl<T: Send> Sync for SharedSlice<T> {}
 
 impl<T> SharedSlice<T> {
+    /// Wraps `items`, which must outlive every use of the result.
     pub fn new(items: &mut [T]) -> Self {
         SharedSlice {
             ptr: items.as_mut_ptr(),
@@ -202,6 +203,7 @@ unsafe impl Send for SharedBodies {}
 unsafe impl Sync for SharedBodies {}
 
 impl SharedBodies {
+    /// Wraps `bodies`, which must outlive every use of the result.
     pub fn new(bodies: &mut [SolverBody]) -> Self {
         SharedBodies {
             ptr: bodies.as_mut_ptr(),

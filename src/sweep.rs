@@ -49,8 +49,11 @@ use crate::world::SolverKind;
 /// What to sweep.
 #[derive(Clone, Debug)]
 pub struct SweepConfig {
+    /// Solver iterations per substep.
     pub iterations: Vec<u32>,
+    /// Ragdoll spines.
     pub spines: Vec<SpineKind>,
+    /// Ball-and-socket joint flavours.
     pub joints: Vec<JointFlavour>,
     /// Empty: the scene's own time step.
     pub dts: Vec<f32>,
@@ -93,6 +96,7 @@ impl Default for SweepConfig {
 pub struct SweepRow {
     /// `<spine>/<joint>` for rodlab's methods, the engine's name for a peer.
     pub method: String,
+    /// Spine: chain3, rod or single.
     pub spine: String,
     /// cheap or exact for rodlab; the peer's joint kind for a peer.
     pub joint: String,
@@ -106,16 +110,23 @@ pub struct SweepRow {
     pub contact_hertz: f32,
     /// Stacking's rate (1/m; 0 for a peer).
     pub contact_stacking: f32,
+    /// Frame time step (s).
     pub dt: f32,
     /// Iterations per substep.
     pub iterations: u32,
+    /// Median wall time (microseconds) of one `World::step` after the warm-up.
     pub step_us: f64,
+    /// Dislocation per ragdoll (cm), mean over frames and ragdolls.
     pub mean_dislocation_cm: f64,
+    /// Dislocation per ragdoll (cm), maximum over frames and ragdolls.
     pub max_dislocation_cm: f64,
+    /// Angular violation per ragdoll (rad), mean over frames and ragdolls.
     pub mean_angular_rad: f64,
+    /// Angular violation per ragdoll (rad), maximum over frames and ragdolls.
     pub max_angular_rad: f64,
     /// Deepest overlap of the shapes over the run (cm), found afresh each frame.
     pub max_overlap_cm: f64,
+    /// Why the run stopped (NaN or an explosion); `None` if it ran to the end.
     pub failed: Option<String>,
 }
 
@@ -341,6 +352,7 @@ const HEADER: &str =
     "method,spine,joint,solver,substeps,warm_start,contact_hertz,contact_stacking,dt,iterations,step_us,\
 mean_dislocation_cm,max_dislocation_cm,mean_angular_rad,max_angular_rad,max_overlap_cm,failed";
 
+/// The rows as CSV text, header first (see the module docs for the columns).
 pub fn to_csv(rows: &[SweepRow]) -> String {
     crate::csv_table::to_text(
         HEADER,
@@ -453,11 +465,13 @@ pub fn machine_name() -> String {
 /// What one modelled feature costs in a scene: the median time with it and without it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FeatureCost {
+    /// The feature's name.
     pub feature: &'static str,
     /// Whether the scene as written models it.
     pub modelled: bool,
     /// Median microseconds per frame with the feature on and off.
     pub with_us: f64,
+    /// Median microseconds per frame with the feature off.
     pub without_us: f64,
 }
 

@@ -37,6 +37,7 @@ pub const SETTLING_BAND: f32 = 0.02;
 /// A run has settled (for matching) if over the last [`SETTLED_WINDOW_S`] it stays within this
 /// fraction of its mean there, or within [`SETTLED_BAND_RAD`] of it.
 pub const SETTLED_BAND: f32 = 0.05;
+/// Absolute form of [`SETTLED_BAND`] (rad), for settled values near zero.
 pub const SETTLED_BAND_RAD: f32 = 0.002;
 /// Distance between neighbouring copies on the grid (m).
 pub const GRID_SPACING: f32 = 1.2;
@@ -77,6 +78,7 @@ pub struct TuneConfig {
     pub twist: Vec<Softness>,
     /// Damping (N m s/rad) of the stiffness settings; none for alphas.
     pub bend_damping: Option<f32>,
+    /// Damping (N m s/rad) of the twist stiffness settings; none for alphas.
     pub twist_damping: Option<f32>,
     /// Layers of the grid; empty: the scene's iteration count.
     pub iterations: Vec<u32>,
@@ -84,6 +86,7 @@ pub struct TuneConfig {
     pub frames: Option<u32>,
     /// Angular velocity (rad/s) about the rod's tangent given to the chest at the start.
     pub twist_push: f32,
+    /// Which of the combinations this process runs.
     pub shard: Shard,
 }
 
@@ -108,17 +111,24 @@ impl Default for TuneConfig {
 pub struct Copy {
     /// Index among all combinations (shards split on it).
     pub index: usize,
+    /// Row of the grid: index into the bend settings.
     pub row: usize,
+    /// Column of the grid: index into the twist settings.
     pub column: usize,
+    /// Layer of the grid: index into the iteration counts.
     pub layer: usize,
+    /// The copy's bend setting.
     pub bend: Softness,
+    /// The copy's twist setting.
     pub twist: Softness,
+    /// The copy's solver iterations per substep.
     pub iterations: u32,
     /// Where the copy stands, added to the scene's positions.
     pub offset: Vec3,
 }
 
 impl Copy {
+    /// The copy's settings for legends, e.g. `alpha_b 0.005, alpha_t 0.5, 20 it`.
     pub fn label(&self) -> String {
         format!(
             "{}, {}, {} it",
@@ -197,9 +207,13 @@ pub fn scene_twist(scene: &Scene) -> anyhow::Result<Softness> {
 /// One rod setting: the bend and twist of the tuned ragdoll, with their damping.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RodSetting {
+    /// Bend setting: alpha_b (eq. 11) or a stiffness.
     pub bend: Softness,
+    /// Twist setting: alpha_t (eq. 12-13) or a stiffness.
     pub twist: Softness,
+    /// Damping (N m s/rad) of a bend stiffness; ignored with an alpha.
     pub bend_damping: Option<f32>,
+    /// Damping (N m s/rad) of a twist stiffness; ignored with an alpha.
     pub twist_damping: Option<f32>,
 }
 
@@ -270,11 +284,15 @@ pub fn build_copy(
 /// What one copy did, frame by frame (index 0 is the first step's end).
 #[derive(Clone, Debug, Default)]
 pub struct Trace {
+    /// The rod's bend psi per frame (rad).
     pub psi: Vec<f32>,
+    /// The rod's twist tau per frame (rad).
     pub tau: Vec<f32>,
     /// Kinetic plus gravitational potential energy (J).
     pub energy: Vec<f32>,
+    /// The ragdoll's dislocation per frame, summed over its constraints (cm).
     pub dislocation_cm: Vec<f32>,
+    /// Why the copy stopped, with the frame, if it failed.
     pub failed: Option<String>,
 }
 
@@ -322,15 +340,25 @@ pub fn settling_time(series: &[f32], target: f32, dt: f32) -> f32 {
 /// A copy's row of the summary.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TuneRow {
+    /// The copy this row sums up.
     pub copy: Copy,
+    /// Substeps per frame (the scene's).
     pub substeps: u32,
+    /// Settled bend psi (rad): the mean over the last [`SETTLED_WINDOW_S`].
     pub final_psi: f32,
+    /// Settled twist tau (rad): the mean over the last [`SETTLED_WINDOW_S`].
     pub final_tau: f32,
     /// Largest psi above the final one (rad).
     pub psi_overshoot: f32,
+    /// Time (s) from which psi stays within [`SETTLING_BAND`] of its settled value; infinite if
+    /// never.
     pub psi_settling_s: f32,
+    /// Time (s) from which tau stays within [`SETTLING_BAND`] of its settled value; infinite if
+    /// never.
     pub tau_settling_s: f32,
+    /// Mean over the frames of the ragdoll's summed dislocation (cm).
     pub mean_dislocation_cm: f32,
+    /// Why the copy stopped, with the frame, if it failed.
     pub failed: Option<String>,
 }
 
@@ -512,7 +540,9 @@ pub fn settled_value(series: &[f32], dt: f32) -> Option<f32> {
 /// Which setting [`match_psi`] bisects.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MatchBy {
+    /// The relaxation alpha_b (eq. 11).
     AlphaBend,
+    /// The bend stiffness (N m/rad), critically damped.
     BendStiffness,
 }
 
@@ -639,6 +669,7 @@ pub fn matching_frames(scene: &Scene) -> u32 {
     (2 * scene.def.frames).max((MATCHING_SECONDS / scene.def.dt).ceil() as u32)
 }
 
+/// Shortest run [`match_psi`] makes (s).
 pub const MATCHING_SECONDS: f32 = 30.0;
 
 /// How close a match must land (rad): 0.002 rad, or 1% of a smaller target.

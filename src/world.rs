@@ -11,11 +11,16 @@ pub use crate::solver::{
     Settings, SolverKind, DEFAULT_MAX_ANGULAR_SPEED, DEFAULT_MAX_LINEAR_SPEED,
 };
 
+/// The physics world: bodies, constraints, contacts, settings and the solver's storage.
 #[derive(Clone, Debug, Default)]
 pub struct World {
+    /// Time step, iterations and the other simulation settings.
     pub settings: Settings,
+    /// The bodies, indexed by [`BodyId`].
     pub bodies: Vec<Body>,
+    /// The joints and rods, by the index [`World::add_constraint`] returns.
     pub constraints: Vec<Constraint>,
+    /// The contact points and the storage to find them.
     pub contacts: Contacts,
     /// The solver's reused per-step storage (hot bodies, rows per kind, colours).
     pub solver: Solver,
@@ -32,10 +37,13 @@ pub struct World {
 /// A simulation that produced NaN or exploded.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SimulationError {
+    /// The frame whose step failed.
     pub frame: u64,
+    /// Name of the offending body.
     pub body: String,
     /// The constraint on that body with the largest error, if any.
     pub constraint: Option<String>,
+    /// What happened to the body, read after its name (e.g. "came apart: ...").
     pub reason: String,
 }
 
@@ -56,6 +64,7 @@ impl std::fmt::Display for SimulationError {
 impl std::error::Error for SimulationError {}
 
 impl World {
+    /// An empty world with `settings`.
     pub fn new(settings: Settings) -> Self {
         World {
             settings,
@@ -63,20 +72,24 @@ impl World {
         }
     }
 
+    /// Adds `body` and returns its id.
     pub fn add_body(&mut self, body: Body) -> BodyId {
         self.bodies.push(body);
         BodyId(self.bodies.len() as u32 - 1)
     }
 
+    /// Adds `constraint` and returns its index in `constraints`.
     pub fn add_constraint(&mut self, constraint: impl Into<Constraint>) -> usize {
         self.constraints.push(constraint.into());
         self.constraints.len() - 1
     }
 
+    /// The body `id`.
     pub fn body(&self, id: BodyId) -> &Body {
         &self.bodies[id.index()]
     }
 
+    /// The body `id`, mutable.
     pub fn body_mut(&mut self, id: BodyId) -> &mut Body {
         &mut self.bodies[id.index()]
     }
@@ -115,6 +128,7 @@ impl World {
         })
     }
 
+    /// The first body named `name`, if any.
     pub fn find_body(&self, name: &str) -> Option<BodyId> {
         self.bodies
             .iter()
@@ -170,10 +184,12 @@ impl World {
         Ok(())
     }
 
+    /// Kinetic energy of all bodies (J).
     pub fn kinetic_energy(&self) -> f32 {
         self.bodies.iter().map(Body::kinetic_energy).sum()
     }
 
+    /// Gravitational potential energy of all bodies (J), zero at the origin.
     pub fn potential_energy(&self) -> f32 {
         self.bodies
             .iter()

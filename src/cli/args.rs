@@ -11,6 +11,7 @@ use crate::world::SolverKind;
 
 use super::tune;
 
+/// The `rodlab` command line.
 #[derive(Debug, Parser)]
 #[command(
     name = "rodlab",
@@ -18,26 +19,32 @@ use super::tune;
     about = "Rod constraints for simplified ragdolls (SCA 2013), recorded to Rerun"
 )]
 pub struct Cli {
+    /// The command to run; without one, the main job.
     #[command(subcommand)]
     pub command: Option<Command>,
 }
 
 // The doc comments are `--help` text, where `<out>` is a placeholder, not HTML.
+/// The subcommands of `rodlab`.
 #[allow(rustdoc::invalid_html_tags)]
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// The main job: every scene in a folder -> <out>/<scene>.rrd, plus a residual summary
     /// (a scene with `ci_frames` runs that many frames, unless --frames).
     All {
+        /// Folder of scene files (*.toml) to run
         #[arg(long, default_value = "scenes")]
         scenes: PathBuf,
+        /// Folder the recordings are written to
         #[arg(long, default_value = "recordings")]
         out: PathBuf,
+        /// Settings that override every scene's.
         #[command(flatten)]
         overrides: OverrideArgs,
     },
     /// Runs one scene and records it.
     Run {
+        /// Scene file (TOML) to run
         scene: PathBuf,
         /// Run the scene's `[[variant]]` of this name (its settings, then the overrides below),
         /// recorded as <scene>_<variant>.
@@ -50,8 +57,10 @@ pub enum Command {
         /// Let --save write over an existing file that is not an .rrd (never over the scene).
         #[arg(long)]
         force: bool,
+        /// Settings that override the scene's.
         #[command(flatten)]
         overrides: OverrideArgs,
+        /// Where the recording goes (Rerun's `--save`, `--spawn`, `--connect`, ...).
         #[command(flatten)]
         rerun: rerun::clap::RerunArgs,
     },
@@ -65,11 +74,13 @@ pub enum Command {
     /// The stability suite: every case for every method, a verdict each -> <out>/stress.md,
     /// <out>/stress.csv, and a recording of every run that is not stable (<out>/stress/).
     Stress {
+        /// Folder for stress.md, stress.csv and the recordings of runs that are not stable
         #[arg(long, default_value = "recordings")]
         out: PathBuf,
     },
     /// Validates scene files without running them.
     Check {
+        /// Scene files (TOML) to check
         #[arg(required = true)]
         scenes: Vec<PathBuf>,
     },
@@ -77,8 +88,10 @@ pub enum Command {
     Outputs,
 }
 
+/// The arguments of `rodlab sweep`.
 #[derive(Debug, Clone, Args)]
 pub struct SweepArgs {
+    /// Scene file (TOML) to sweep
     pub scene: PathBuf,
     /// Iteration counts, comma separated.
     #[arg(long, value_delimiter = ',', default_value = "1,2,4,8,16,32",
@@ -128,10 +141,12 @@ pub struct SweepArgs {
     /// k mod N + 1); outputs get a _shardIofN suffix.
     #[arg(long, value_parser = |s: &str| s.parse::<crate::shard::Shard>())]
     pub shard: Option<crate::shard::Shard>,
+    /// Folder for the CSV, the chart and the recording
     #[arg(long, default_value = "recordings")]
     pub out: PathBuf,
 }
 
+/// Settings that override a scene file's, for `run` and `all`.
 #[derive(Debug, Clone, Args)]
 pub struct OverrideArgs {
     /// Solver iterations per substep (per frame with one substep).

@@ -38,7 +38,7 @@ mod sweep;
 pub mod tune;
 
 pub use args::{Cli, Command, OverrideArgs, SweepArgs};
-pub use run::{load_scene, record_scene, record_scene_from};
+pub use run::{load_scene, record_kinematics_scene, record_scene, record_scene_from};
 pub use summary::print_summary;
 
 use main_job::{main_job, main_job_outputs, run_all};
@@ -46,6 +46,8 @@ use run::{check_output, rerun_sink_given, run_one};
 use stress::stress;
 use sweep::sweep;
 
+/// The `rodlab` binary: parses the command line and runs the command, inside a thread pool of
+/// `--threads` workers when given.
 pub fn main() -> anyhow::Result<()> {
     let matches = Cli::command().get_matches();
     let cli = Cli::from_arg_matches(&matches)?;

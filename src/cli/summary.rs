@@ -4,11 +4,9 @@
 use crate::scene::Scene;
 use crate::sim::RunReport;
 
+/// Prints the summary of a finished run of `scene` named `name`: frames, speed, energy and
+/// state hash, the residuals, penetration, sleep and phase times.
 pub fn print_summary(name: &str, scene: &Scene, report: &RunReport) {
-    if scene.def.kinematics.is_some() {
-        report!("{name}: {} bends recorded", report.frames);
-        return;
-    }
     report!(
         "{name}: {} frames, dt {:.4} s, {} substep(s) x {} iterations, {} solver on {} thread(s), \
          {:.0} steps/s (stepping only), energy {:.1} J -> {:.1} J, state hash {:016x}",

@@ -13,6 +13,7 @@ use crate::record::tune::TuneRecorder;
 use crate::scene::Scene;
 use crate::tune::{self, MatchBy, RodSetting, Shard, Softness, TuneConfig, TuneRow};
 
+/// The arguments of `rodlab tune`.
 #[derive(Debug, Clone, Args)]
 pub struct TuneArgs {
     /// Scene whose rod-spine ragdoll is copied (its first, else its first ragdoll as rod).
@@ -56,6 +57,7 @@ pub struct TuneArgs {
     /// suffix.
     #[arg(long, value_parser = |s: &str| s.parse::<Shard>())]
     pub shard: Option<Shard>,
+    /// Folder for tune.rrd, .csv, .svg and .png
     #[arg(long, default_value = "recordings")]
     pub out: PathBuf,
 }
@@ -97,7 +99,9 @@ impl TuneArgs {
 /// What the matching found at one iteration count.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Matched {
+    /// The iteration count it was matched at.
     pub iterations: u32,
+    /// The settled bend angle psi sought (rad).
     pub target: f32,
     /// (alpha_b, its settled psi), if any alpha reaches the target.
     pub alpha_b: Option<(f32, f32)>,

@@ -36,7 +36,10 @@ use crate::solver_body::SolverBody;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize, Default)]
 #[serde(rename_all = "lowercase")]
 pub enum JointFlavour {
+    /// One scalar row along the current error direction; ignores the rows' coupling, so chains
+    /// converge slowly (§8).
     Cheap,
+    /// The full 3x3 block `P = K^-1 C`.
     #[default]
     Exact,
 }
@@ -50,6 +53,7 @@ impl std::fmt::Display for JointFlavour {
     }
 }
 
+/// Soft angular spring toward a rest relative orientation, taken at the transition pose (§6).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AngularSpring {
     /// Fraction of the angular error removed per iteration, in [0, 1].
@@ -58,18 +62,28 @@ pub struct AngularSpring {
     pub rest: Quat,
 }
 
+/// A ball-and-socket joint between two bodies, with an optional angular limit and spring.
 #[derive(Clone, Debug)]
 pub struct BallSocket {
+    /// Name, for failure reports and recordings.
     pub name: String,
+    /// First body.
     pub body_a: BodyId,
+    /// Second body.
     pub body_b: BodyId,
+    /// Anchor in body a's space (m, from its centre of mass).
     pub local_anchor_a: Vec3,
+    /// Anchor in body b's space (m, from its centre of mass).
     pub local_anchor_b: Vec3,
     /// Joint frame in each body; its x axis is the twist or hinge axis.
     pub local_frame_a: Quat,
+    /// Joint frame in body b (see `local_frame_a`).
     pub local_frame_b: Quat,
+    /// How the point part is solved.
     pub flavour: JointFlavour,
+    /// Optional swing-twist (or hinge) limit on the joint frames.
     pub limit: Option<AngularLimit>,
+    /// Optional soft spring toward the rest relative orientation.
     pub spring: Option<AngularSpring>,
     /// Whether the two bodies may collide with each other (off for ragdoll neighbours).
     pub collide_connected: bool,
@@ -113,11 +127,13 @@ impl BallSocket {
         self
     }
 
+    /// Adds a swing-twist (or hinge) limit on the joint frames.
     pub fn with_limit(mut self, limit: AngularLimit) -> Self {
         self.limit = Some(limit);
         self
     }
 
+    /// Sets how the point part is solved.
     pub fn with_flavour(mut self, flavour: JointFlavour) -> Self {
         self.flavour = flavour;
         self
@@ -147,6 +163,8 @@ impl BallSocket {
         )
     }
 
+    /// Residual at the preview poses: anchor gap (m) and angular error (rad) of the limit and of a
+    /// hard (relaxation 1) spring.
     pub fn violation(&self, a: &Body, b: &Body) -> Violation {
         let (pa, pb) = self.world_anchors(a, b);
         let mut angular = self.limit.map_or(0.0, |limit| {
@@ -170,16 +188,25 @@ impl BallSocket {
 /// A ball-and-socket joint as the solver stores it (hot data: indices, no name).
 #[derive(Clone, Copy, Debug)]
 pub struct JointRow {
+    /// Index of body a in the world's bodies.
     pub body_a: u32,
+    /// Index of body b in the world's bodies.
     pub body_b: u32,
+    /// Anchor in body a's space (m).
     pub anchor_a: Vec3,
+    /// Anchor in body b's space (m).
     pub anchor_b: Vec3,
+    /// Joint frame in body a; x is the twist or hinge axis.
     pub frame_a: Quat,
+    /// Joint frame in body b; x is the twist or hinge axis.
     pub frame_b: Quat,
+    /// Optional swing-twist (or hinge) limit on the joint frames.
     pub limit: Option<AngularLimit>,
     /// Twist of the joint frames at the substep's start (limits unwrap against it).
     pub start_twist: f32,
+    /// Optional soft spring toward the rest relative orientation.
     pub spring: Option<AngularSpring>,
+    /// How the point part is solved.
     pub flavour: JointFlavour,
 }
 

@@ -37,13 +37,16 @@ pub struct JointDamping {
     pub coefficient: f32,
     /// Substep (s) and iterations per substep.
     pub h: f32,
+    /// Solver iterations per substep, over which each substep's relaxation is spread.
     pub iterations: u32,
 }
 
 /// A damper as the solver stores it: a body pair and this substep's spring.
 #[derive(Clone, Copy, Debug)]
 pub struct DamperRow {
+    /// Index of body a in the world's bodies.
     pub body_a: u32,
+    /// Index of body b in the world's bodies.
     pub body_b: u32,
     /// Fraction of the turn away from `rest` removed per iteration (0: nothing this substep).
     pub relaxation: f32,

@@ -18,15 +18,19 @@ use super::parts::relative_rotation;
 use crate::math::{angle_between, any_perpendicular, twist_angle, wrap_angle, Quat, Vec3};
 use crate::solver_body::SolverBody;
 
+/// An angular limit on a joint's frames: a swing cone about the x axis and a twist range.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AngularLimit {
     /// Cone half-angle (rad) of the twist axis; 0 makes a hinge.
     pub swing_max: f32,
+    /// Lowest twist angle about the x axis (rad).
     pub twist_min: f32,
+    /// Highest twist angle about the x axis (rad).
     pub twist_max: f32,
 }
 
 impl AngularLimit {
+    /// A cone of half-angle `swing_max` with twist range [twist_min, twist_max] (rad).
     pub fn cone(swing_max: f32, twist_min: f32, twist_max: f32) -> Self {
         Self {
             swing_max,

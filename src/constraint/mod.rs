@@ -36,13 +36,17 @@ impl std::ops::AddAssign for Violation {
     }
 }
 
+/// A constraint between two bodies, of one of the kinds.
 #[derive(Clone, Debug)]
 pub enum Constraint {
+    /// A ball-and-socket joint, with its optional limit and spring.
     BallSocket(BallSocket),
+    /// A rod (paper §5).
     Rod(Rod),
 }
 
 impl Constraint {
+    /// The constraint's name, used in error messages and recordings.
     pub fn name(&self) -> &str {
         match self {
             Constraint::BallSocket(joint) => &joint.name,
@@ -50,6 +54,7 @@ impl Constraint {
         }
     }
 
+    /// The two bodies it joins, (a, b).
     pub fn bodies(&self) -> (BodyId, BodyId) {
         match self {
             Constraint::BallSocket(joint) => (joint.body_a, joint.body_b),
@@ -77,6 +82,7 @@ impl Constraint {
         sb.write_preview(b);
     }
 
+    /// The residual (paper Fig. 8): dislocation (m) and angular violation (rad).
     pub fn violation(&self, bodies: &[Body]) -> Violation {
         let (ia, ib) = self.bodies();
         let (a, b) = (&bodies[ia.index()], &bodies[ib.index()]);

@@ -84,13 +84,19 @@ pub struct Stiffness {
     pub damping: f32,
 }
 
+/// A rod (§5) between two bodies' centres of mass: hard curve (eq. 6) and length (eq. 9), soft bend
+/// (eq. 11) and twist (eq. 12-13).
 #[derive(Clone, Debug)]
 pub struct Rod {
+    /// Name, for failure reports and recordings.
     pub name: String,
+    /// Body at the rod's start, s = 0.
     pub body_a: BodyId,
+    /// Body at the rod's end, s = 1.
     pub body_b: BodyId,
     /// Rod frame in each body (eq. 2): x is the body tangent, y the body normal.
     pub local_frame_a: Quat,
+    /// Rod frame in body b (see `local_frame_a`).
     pub local_frame_b: Quat,
     /// Rest length l_0 (m).
     pub rest_length: f32,
@@ -102,14 +108,18 @@ pub struct Rod {
     pub bend_stiffness: Option<Stiffness>,
     /// Twisting stiffness; when set it replaces `alpha_twist`.
     pub twist_stiffness: Option<Stiffness>,
+    /// How tau is measured for the twist (eq. 12-13).
     pub twist_mode: TwistMode,
+    /// How the length constraint (eq. 9) is corrected.
     pub length_correction: LengthCorrection,
 }
 
 /// Everything measured on a rod at one instant.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RodState {
+    /// Bend angle psi between the tangents t_a and t_b (rad).
     pub psi: f32,
+    /// Twist angle tau (rad), measured by the rod's [`TwistMode`].
     pub tau: f32,
     /// eq. 9 (m).
     pub length_error: f32,
@@ -169,6 +179,7 @@ impl Rod {
         )
     }
 
+    /// Twist tau (rad) between the world rod frames F(0) and F(1), by the rod's [`TwistMode`].
     pub fn twist(&self, frame_a: Quat, frame_b: Quat) -> f32 {
         measure_twist(self.twist_mode, frame_a, frame_b)
     }
@@ -190,6 +201,7 @@ impl Rod {
         }
     }
 
+    /// Bend, twist, length error (eq. 9) and curve error (eq. 6) at the preview poses.
     pub fn state(&self, a: &Body, b: &Body) -> RodState {
         let (fa, fb) = self.frames(a, b);
         let (ta, tb) = (fa * Vec3::X, fb * Vec3::X);
@@ -234,23 +246,34 @@ impl Rod {
 /// A rod as the solver stores it (hot data: indices, no name).
 #[derive(Clone, Copy, Debug)]
 pub struct RodRow {
+    /// Index of body a in the world's bodies.
     pub body_a: u32,
+    /// Index of body b in the world's bodies.
     pub body_b: u32,
+    /// Rod frame in body a (eq. 2): x is the tangent, y the normal.
     pub frame_a: Quat,
+    /// Rod frame in body b (eq. 2): x is the tangent, y the normal.
     pub frame_b: Quat,
+    /// Rest length l_0 (m).
     pub rest_length: f32,
+    /// Bending relaxation alpha_b in [0, 1] (eq. 11).
     pub alpha_bend: f32,
+    /// Twisting relaxation alpha_t in [0, 1] (eq. 12-13).
     pub alpha_twist: f32,
     /// Stiffness in compliance form, with its state in the substep (replaces the alpha).
     pub bend_compliant: Option<Compliant>,
+    /// Twist stiffness in compliance form, with its state in the substep (replaces alpha_t).
     pub twist_compliant: Option<Compliant>,
+    /// How tau is measured.
     pub twist_mode: TwistMode,
+    /// How the length constraint (eq. 9) is corrected.
     pub length_correction: LengthCorrection,
 }
 
 /// A compliant part (bend or twist) as the solver keeps it through one substep (XPBD).
 #[derive(Clone, Copy, Debug)]
 pub struct Compliant {
+    /// Stiffness (N m/rad) and damping (N m s/rad) of this part.
     pub stiffness: Stiffness,
     /// `alpha~ = 1 / (k h^2)`.
     compliance: f32,
@@ -465,12 +488,17 @@ pub fn length_error(pa: Vec3, ta: Vec3, pb: Vec3, tb: Vec3, rest_length: f32) ->
 /// Gradient of [`curve_error`] with respect to positions and rotation vectors of both bodies.
 #[derive(Clone, Copy, Debug)]
 pub struct CurveGradient {
+    /// `dC/dp_a = -g_o` (rad/m).
     pub p_a: Vec3,
+    /// `dC/dtheta_a = S n`, with respect to body a's rotation vector.
     pub theta_a: Vec3,
+    /// `dC/dp_b = g_o` (rad/m).
     pub p_b: Vec3,
+    /// `dC/dtheta_b = -n`, with respect to body b's rotation vector.
     pub theta_b: Vec3,
 }
 
+/// The gradient of [`curve_error`] (eq. 6) alone; see [`curve_projection`].
 pub fn curve_gradient(pa: Vec3, ta: Vec3, pb: Vec3, tb: Vec3) -> CurveGradient {
     curve_projection(pa, ta, pb, tb).1
 }

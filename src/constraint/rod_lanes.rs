@@ -66,10 +66,15 @@ pub fn solve_lanes<L: Lane>(rows: &mut [RodRow], bodies: SharedBodies) {
 pub struct RodLanes<L> {
     index_a: [u32; MAX_LANES],
     index_b: [u32; MAX_LANES],
+    /// Rod frame in body a (eq. 2), per lane.
     pub frame_a: Q<L>,
+    /// Rod frame in body b (eq. 2), per lane.
     pub frame_b: Q<L>,
+    /// Rest length l_0 (m), per lane.
     pub rest_length: L,
+    /// Bending relaxation alpha_b (eq. 11), per lane.
     pub alpha_bend: L,
+    /// Twisting relaxation alpha_t (eq. 12-13), per lane.
     pub alpha_twist: L,
 }
 
@@ -311,12 +316,18 @@ fn wrap_angle<L: Lane>(a: L) -> L {
 /// (`p_a = -g_o`, `p_b = g_o`, `theta_a = S n`, `theta_b = -n`).
 #[derive(Clone, Copy, Debug)]
 pub struct CurveLanes<L> {
+    /// The curve error (rad): angle between t_b and t_a reflected about o^ (eq. 6).
     pub error: L,
+    /// `g_o`, the error's gradient with respect to p_b (rad/m); `-g_o` for p_a.
     pub g_o: V3<L>,
+    /// Gradient with respect to body a's rotation vector, `S n`.
     pub theta_a: V3<L>,
+    /// Gradient with respect to body b's rotation vector, `-n`.
     pub theta_b: V3<L>,
 }
 
+/// [`super::rod::curve_projection`] per lane: the curve error (eq. 6) and its gradient, from
+/// both bodies' centres and world tangents.
 #[inline(always)]
 pub fn curve_projection<L: Lane>(pa: V3<L>, ta: V3<L>, pb: V3<L>, tb: V3<L>) -> CurveLanes<L> {
     let (o, distance) = (pb - pa).normalize_or(ta, 1e-12);

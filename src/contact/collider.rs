@@ -13,31 +13,43 @@ use crate::body::{Body, BodyKind};
 use crate::math::{Quat, Vec3};
 use crate::shape::Shape;
 
+/// The record of one body that contact detection reads (112 bytes).
 #[derive(Clone, Copy, Debug)]
 pub struct Collider {
+    /// World position of the centre of mass (m).
     pub position: Vec3,
     /// [`Body::spin_speed_bound`]: how fast spin moves a surface point at most (m/s).
     pub spin_bound: f32,
+    /// Body-to-world rotation.
     pub orientation: Quat,
+    /// Velocity of the centre of mass (m/s).
     pub linear_velocity: Vec3,
+    /// Collision filter group bits.
     pub collision_group: u32,
+    /// The body's shape.
     pub shape: Shape,
     /// A capsule's cap centres are `position -+ half_axis` (world space); zero for the rest.
     pub half_axis: Vec3,
+    /// Collision filter mask bits.
     pub collision_mask: u32,
     /// [`Shape::bounding_radius`].
     pub bounding_radius: f32,
+    /// Dynamic, fixed or kinematic.
     pub kind: BodyKind,
     /// [`Body::moves_this_step`].
     pub moves: bool,
     /// Read only for the pairs that touch.
     pub angular_velocity: Vec3,
+    /// Static friction coefficient mu_s.
     pub static_friction: f32,
+    /// Dynamic friction coefficient mu_d.
     pub dynamic_friction: f32,
+    /// Coefficient of restitution.
     pub restitution: f32,
 }
 
 impl Collider {
+    /// The record of `body` at its current pose.
     pub fn new(body: &Body) -> Self {
         let half_axis = match body.shape {
             Shape::Capsule {

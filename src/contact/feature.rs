@@ -8,9 +8,13 @@ use crate::math::Vec3;
 /// of the two shapes meet there.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Feature {
+    /// Unit world normal from a to b.
     pub normal: Vec3,
+    /// World point on a's surface.
     pub point_a: Vec3,
+    /// World point on b's surface.
     pub point_b: Vec3,
+    /// Distance (m) from `point_a` to `point_b` along the normal; negative when penetrating.
     pub separation: f32,
     /// The touching features (a box corner, a cap, a clipped edge; see [`FeatureId`]).
     pub id: FeatureId,

@@ -22,11 +22,15 @@ pub struct Handed {
     /// The pair's second body, and its place in last step's points (the tie-break).
     second: u32,
     index: u32,
+    /// The touching features, which the successor must match.
     pub id: FeatureId,
     /// It stuck to the end of the step (its anchors are carried).
     pub sticking: bool,
+    /// Normal impulse accumulated in its last substep (kg m), for warm starting.
     pub normal_impulse: f32,
+    /// Friction anchor in body a's space.
     pub anchor_a: Vec3,
+    /// Friction anchor in body b's space.
     pub anchor_b: Vec3,
 }
 

@@ -46,9 +46,12 @@ use crate::solver_body::{pair_mut, SharedSlice, SolverBody};
 use detect::Detection;
 use feature::FeatureId;
 
+/// One contact point between two bodies, kept for a step and solved in the iterations.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContactPoint {
+    /// First body of the pair; the normal points away from it.
     pub body_a: BodyId,
+    /// Second body of the pair.
     pub body_b: BodyId,
     /// The touching shape features, which recognise the point next step.
     pub id: FeatureId,
@@ -56,9 +59,13 @@ pub struct ContactPoint {
     pub normal: Vec3,
     /// Surface points in body space.
     pub local_a: Vec3,
+    /// Body b's surface point in body b's space.
     pub local_b: Vec3,
+    /// The pair's static friction coefficient mu_s (geometric mean of the bodies').
     pub static_friction: f32,
+    /// The pair's dynamic friction coefficient mu_d (geometric mean of the bodies').
     pub dynamic_friction: f32,
+    /// The pair's coefficient of restitution (the larger of the bodies').
     pub restitution: f32,
     /// Lever arms (world offsets of the points from the body centres when found), fixed for
     /// the step: impulses act there, as Box2D v3's fixed anchors. The separation and the slip
@@ -116,6 +123,8 @@ impl ContactPoint {
         (b.preview_point(self.local_b) - a.preview_point(self.local_a)).dot(self.normal)
     }
 
+    /// One projection on the preview poses: the normal push (its accumulated impulse kept at or
+    /// above zero), then friction on the anchors' slip within the Coulomb cone.
     pub fn solve(&mut self, a: &mut SolverBody, b: &mut SolverBody) {
         let n = self.normal;
         let point_a = a.position + a.orientation * self.local_a;
@@ -185,7 +194,9 @@ impl ContactPoint {
 /// paper's hard projection.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Softness {
+    /// Natural frequency (Hz); 0: hard contact.
     pub hertz: f32,
+    /// Damping ratio zeta (1: critical).
     pub damping_ratio: f32,
 }
 
@@ -245,6 +256,7 @@ impl Stacking {
 /// The contacts of a world and the storage to find them, reused from step to step.
 #[derive(Clone, Debug, Default)]
 pub struct Contacts {
+    /// The contact points of the current step.
     pub points: Vec<ContactPoint>,
     detection: Detection,
     /// Substeps begun since the last detection.

@@ -92,6 +92,8 @@ fn group_of(lab: &Lab, body: BodyId) -> String {
 }
 
 impl Recorder {
+    /// A recorder of `lab` into `rec`; logs the static parts (scene text, ground, shapes, styles)
+    /// at once.
     pub fn new(rec: RecordingStream, lab: &Lab, scene: &Scene) -> anyhow::Result<Self> {
         let world = &lab.world;
         rec.set_log_time_enabled(false);
@@ -148,6 +150,7 @@ impl Recorder {
         Ok(recorder)
     }
 
+    /// The recording stream it writes to.
     pub fn stream(&self) -> &RecordingStream {
         &self.rec
     }

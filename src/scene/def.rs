@@ -31,11 +31,13 @@ pub struct SceneDef {
     /// Islands of still bodies fall asleep and leave the step (off: the paper's scenes).
     #[serde(default)]
     pub sleep: bool,
+    /// Frames to run (default 300); `--frames` overrides it.
     #[serde(default = "default_frames")]
     pub frames: u32,
     /// Frames the main job (`rodlab`, `rodlab all`) runs instead of `frames`, for scenes too
     /// heavy to run in full there; `--frames` overrides both.
     pub ci_frames: Option<u32>,
+    /// Gravity acceleration (m/s^2); defaults to [`Settings::default`]'s, -9.81 along y.
     #[serde(default = "default_gravity")]
     pub gravity: [f32; 3],
     /// Default solver flavour of every ball-and-socket joint.
@@ -44,6 +46,7 @@ pub struct SceneDef {
     /// Explosion bounds (m/s, rad/s).
     #[serde(default = "default_max_speed")]
     pub max_speed: f32,
+    /// Explosion bound on angular speed (rad/s); past it the run stops.
     #[serde(default = "default_max_angular_speed")]
     pub max_angular_speed: f32,
     /// A joint or rod apart by more than this (m) after a frame stops the run.
@@ -52,15 +55,19 @@ pub struct SceneDef {
     /// A contact deeper than this (m) after a frame stops the run.
     #[serde(default = "default_max_penetration")]
     pub max_penetration: f32,
+    /// What the recording holds (`[record]`); everything but contacts by default.
     #[serde(default)]
     pub record: RecordDef,
+    /// Reference humanoids (`[[ragdoll]]`).
     #[serde(default)]
     pub ragdoll: Vec<RagdollDef>,
+    /// Rigid bodies (`[[body]]`).
     #[serde(default)]
     pub body: Vec<BodyDef>,
     /// Groups of fixed bodies copied over a grid (expanded into `body` entries when loaded).
     #[serde(default)]
     pub tile: Vec<TileDef>,
+    /// Ball-and-socket joints (`[[joint]]`).
     #[serde(default)]
     pub joint: Vec<JointDef>,
     /// Linear and angular velocity damping rates (1/s); zero by default.
@@ -103,6 +110,7 @@ pub struct SceneDef {
     pub report_every: u32,
     /// A purely kinematic comparison of chains and a rod (Fig. 6) instead of a simulation.
     pub kinematics: Option<KinematicsDef>,
+    /// Rod constraints (`[[rod]]`).
     #[serde(default)]
     pub rod: Vec<RodDef>,
     /// Many ragdolls dropped from a grid (expanded into `ragdoll` entries when loaded).
@@ -117,15 +125,20 @@ pub struct SceneDef {
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct DropDef {
+    /// Number of ragdolls.
     pub count: usize,
+    /// Their spine (default chain3).
     #[serde(default)]
     pub spine: SpineKind,
     /// Root position of the first ragdoll (m).
     pub first: [f32; 3],
     /// Distance between neighbours along x, between layers along y, along z (m).
     pub spacing: [f32; 3],
+    /// Ragdolls along x per layer.
     pub columns: usize,
+    /// Ragdolls along z per layer.
     pub rows: usize,
+    /// Seed of the random yaws and tips (default 0).
     #[serde(default)]
     pub seed: u64,
     /// Largest tip away from upright (deg).
@@ -144,6 +157,7 @@ fn default_tip() -> f32 {
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TileDef {
+    /// Tile name, the prefix of its copies' names.
     pub name: String,
     /// Copies along x and along z (each >= 1).
     pub repeat: [u32; 2],
@@ -158,13 +172,18 @@ pub struct TileDef {
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RodDef {
+    /// Rod name, for reports and recordings.
     pub name: String,
+    /// Name of the body at the rod's start (s = 0).
     pub a: String,
+    /// Name of the body at the rod's end (s = 1).
     pub b: String,
     /// Rest length l_0 (m); defaults to the distance between the centres.
     pub rest_length: Option<f32>,
+    /// Bending relaxation alpha_b in [0, 1] (eq. 11); default 0, free bending.
     #[serde(default)]
     pub alpha_b: f32,
+    /// Twisting relaxation alpha_t in [0, 1] (eq. 12-13); default 0, free twisting.
     #[serde(default)]
     pub alpha_t: f32,
     /// Bending stiffness (N m/rad), > 0, solved in compliance form; replaces `alpha_b`.
@@ -175,8 +194,10 @@ pub struct RodDef {
     pub twist_stiffness: Option<f32>,
     /// Damping of the twist rate (N m s/rad), >= 0; only with `twist_stiffness`.
     pub twist_damping: Option<f32>,
+    /// Twist measure: `exact` (parallel transport, the default) or `paper` (eq. 12).
     #[serde(default)]
     pub twist: TwistMode,
+    /// Length correction (eq. 9): `offset` (the paper's, the default) or `gradient`.
     #[serde(default)]
     pub length_correction: LengthCorrection,
     /// Direction the body normals point to (projected off the tangent).
@@ -190,9 +211,13 @@ pub struct RodDef {
 /// or a rod-spine `[[ragdoll]]`, gathered.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct StiffnessDef {
+    /// Bending stiffness (N m/rad), > 0; replaces `alpha_b`.
     pub bend_stiffness: Option<f32>,
+    /// Damping of the bend rate (N m s/rad), >= 0; 0 when unset.
     pub bend_damping: Option<f32>,
+    /// Twisting stiffness (N m/rad), > 0; replaces `alpha_t`.
     pub twist_stiffness: Option<f32>,
+    /// Damping of the twist rate (N m s/rad), >= 0; 0 when unset.
     pub twist_damping: Option<f32>,
 }
 
@@ -208,18 +233,21 @@ macro_rules! stiffness_of {
 }
 
 impl RodDef {
+    /// This rod's stiffness fields, gathered.
     pub fn stiffness(&self) -> StiffnessDef {
         stiffness_of!(self)
     }
 }
 
 impl RagdollDef {
+    /// This ragdoll's rod-spine stiffness fields, gathered.
     pub fn stiffness(&self) -> StiffnessDef {
         stiffness_of!(self)
     }
 }
 
 impl StiffnessDef {
+    /// The bend stiffness, or None when `bend_stiffness` is unset (damping 0 when unset).
     pub fn bend(&self) -> Option<Stiffness> {
         Some(Stiffness {
             stiffness: self.bend_stiffness?,
@@ -227,6 +255,7 @@ impl StiffnessDef {
         })
     }
 
+    /// The twist stiffness, or None when `twist_stiffness` is unset (damping 0 when unset).
     pub fn twist(&self) -> Option<Stiffness> {
         Some(Stiffness {
             stiffness: self.twist_stiffness?,
@@ -364,10 +393,13 @@ impl Default for RecordDef {
     }
 }
 
+/// A `[[ragdoll]]`: one reference humanoid ([`crate::ragdoll`]), posed and placed.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RagdollDef {
+    /// Ragdoll name, the prefix of its parts' names (`<name>/chest`).
     pub name: String,
+    /// Spine kind: `chain3` (the default), `single` or `rod`.
     #[serde(default)]
     pub spine: SpineKind,
     /// Overrides the scene's joint flavour.
@@ -409,31 +441,43 @@ pub struct RagdollDef {
     pub forces: std::collections::BTreeMap<String, [f32; 3]>,
 }
 
+/// A `[[body]]`'s `kind`: how the solver treats it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Default)]
 #[serde(rename_all = "lowercase")]
 pub enum KindDef {
+    /// Moved by forces and constraints (the default).
     #[default]
     Dynamic,
+    /// Never moves; infinite mass.
     Fixed,
+    /// Moves with its given velocity; infinite mass for constraints.
     Kinematic,
 }
 
+/// A `[[body]]`'s `shape`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum ShapeKind {
+    /// Needs `radius`.
     Sphere,
+    /// Needs `radius` and `half_height`; `axis` defaults to y.
     Capsule,
+    /// Needs `half_extents`.
     Box,
     /// A half-space below the plane through `position` with normal `rotation * +Y`; fixed only.
     Plane,
 }
 
+/// A `[[body]]`: one rigid body.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BodyDef {
+    /// Body name, unique in the scene.
     pub name: String,
+    /// How the solver treats it (default dynamic).
     #[serde(default)]
     pub kind: KindDef,
+    /// Its shape; each kind needs its own size fields.
     pub shape: ShapeKind,
     /// Sphere and capsule radius (m).
     pub radius: Option<f32>,
@@ -447,36 +491,46 @@ pub struct BodyDef {
     pub mass: Option<f32>,
     /// Density (kg/m^3); give this or `mass`.
     pub density: Option<f32>,
+    /// Position of the centre of mass (m); default the origin.
     #[serde(default)]
     pub position: [f32; 3],
     /// Rotation vector (deg).
     #[serde(default)]
     pub rotation: [f32; 3],
+    /// Initial linear velocity (m/s); ignored for fixed bodies.
     #[serde(default)]
     pub velocity: [f32; 3],
+    /// Initial angular velocity (rad/s); ignored for fixed bodies.
     #[serde(default)]
     pub angular_velocity: [f32; 3],
     /// Coulomb friction coefficients (default 0.6 static, 0.5 dynamic).
     pub static_friction: Option<f32>,
+    /// Dynamic Coulomb friction coefficient (default 0.5).
     pub dynamic_friction: Option<f32>,
     /// Coefficient of restitution in [0, 1] (default 0: inelastic).
     pub restitution: Option<f32>,
     /// Collision filter bits (default group 1, mask all).
     pub collision_group: Option<u32>,
+    /// Collision mask bits (default all).
     pub collision_mask: Option<u32>,
 }
 
+/// A `[[joint]]`: a ball-and-socket joint between two named bodies, taken at their starting poses.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct JointDef {
+    /// Joint name, for reports and recordings.
     pub name: String,
+    /// Name of the first body.
     pub a: String,
+    /// Name of the second body.
     pub b: String,
     /// World anchor point at the starting pose (m).
     pub anchor: [f32; 3],
     /// Twist or hinge axis in world space at the starting pose.
     #[serde(default = "default_twist_axis")]
     pub axis: [f32; 3],
+    /// Solver flavour of the point part; defaults to the scene's `joint_flavour`.
     pub flavour: Option<JointFlavour>,
     /// Swing cone half-angle (deg).
     pub swing: Option<f32>,

@@ -36,9 +36,13 @@ use locate::Seg;
 /// A scene error located in its file.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SceneError {
+    /// The scene file.
     pub file: PathBuf,
+    /// 1-based line of the error in the file.
     pub line: usize,
+    /// Path of the offending field (empty when the error has none).
     pub field: String,
+    /// What is wrong.
     pub message: String,
 }
 
@@ -57,8 +61,11 @@ impl std::error::Error for SceneError {}
 /// A parsed and checked scene, with its source text (logged into recordings).
 #[derive(Clone, Debug)]
 pub struct Scene {
+    /// The scene file's path; its stem names the scene unless the file sets `name`.
     pub path: PathBuf,
+    /// The scene file's text.
     pub text: String,
+    /// The parsed and checked definition.
     pub def: SceneDef,
 }
 

@@ -10,33 +10,58 @@ use crate::world::SolverKind;
 /// the file's.
 #[derive(Clone, Debug, Default)]
 pub struct Overrides {
+    /// Solver iterations per substep.
     pub iterations: Option<u32>,
+    /// Substeps per frame.
     pub substeps: Option<u32>,
+    /// How the rows of a colour are solved: scalar or simd.
     pub solver: Option<SolverKind>,
+    /// Whether islands of still bodies fall asleep.
     pub sleep: Option<bool>,
+    /// Speed limit on pushing out deep overlap (m/s).
     pub contact_push_speed: Option<f32>,
+    /// Fraction of their last impulses contacts start each substep with (0 to 1).
     pub contact_warm_start: Option<f32>,
+    /// Soft contacts' natural frequency (Hz); 0 is the hard projection.
     pub contact_hertz: Option<f32>,
+    /// Soft contacts' damping ratio (1: critical).
     pub contact_damping_ratio: Option<f32>,
+    /// Contact mass scaling by height (1/m); 0 is the paper's contact.
     pub contact_stacking: Option<f32>,
+    /// Rotational dashpot across every joint and rod (N m s/rad).
     pub joint_damping: Option<f32>,
+    /// Frame time step (s).
     pub dt: Option<f32>,
+    /// Frames to run.
     pub frames: Option<u32>,
+    /// Spine of every ragdoll.
     pub spine: Option<SpineKind>,
+    /// Flavour of every ball-and-socket joint: the scene's default, every ragdoll's and every
+    /// `[[joint]]`'s.
     pub joint_flavour: Option<JointFlavour>,
+    /// Bending relaxation alpha_b (eq. 11) of every rod and rod spine; clears their bend
+    /// stiffness and damping.
     pub alpha_b: Option<f32>,
+    /// Twisting relaxation alpha_t (eq. 12-13) of every rod and rod spine; clears their twist
+    /// stiffness and damping.
     pub alpha_t: Option<f32>,
     /// Rod stiffness in physical units (each replaces its alpha on every rod and rod spine).
     pub bend_stiffness: Option<f32>,
+    /// Damping of the bend rate (N m s/rad) of every rod and rod spine.
     pub bend_damping: Option<f32>,
+    /// Twisting stiffness (N m/rad) of every rod and rod spine; clears their alpha_t.
     pub twist_stiffness: Option<f32>,
+    /// Damping of the twist rate (N m s/rad) of every rod and rod spine.
     pub twist_damping: Option<f32>,
+    /// Twist measure (exact, or the paper's eq. 12) of every rod and rod spine.
     pub twist: Option<TwistMode>,
     /// Record every N-th frame.
     pub record_every: Option<u32>,
 }
 
 impl Overrides {
+    /// Writes the overrides that are set into `def`: settings, and spine, flavour and rod settings
+    /// on every ragdoll, joint and rod.
     pub fn apply(&self, def: &mut SceneDef) {
         if let Some(v) = self.iterations {
             def.iterations = v;

@@ -14,16 +14,27 @@ use serde::Deserialize;
 pub struct VariantDef {
     /// Lower-case letters, digits and underscores; unique in the scene.
     pub name: String,
+    /// Solver iterations per substep.
     pub iterations: Option<u32>,
+    /// Substeps per frame.
     pub substeps: Option<u32>,
+    /// Row solver: scalar or simd.
     pub solver: Option<SolverKind>,
+    /// Sleeping of still islands.
     pub sleep: Option<bool>,
+    /// Solver flavour of every ball-and-socket joint: cheap or exact.
     pub joint_flavour: Option<JointFlavour>,
+    /// Fastest push out of deep contact overlap (m/s).
     pub contact_push_speed: Option<f32>,
+    /// Fraction of their last impulses contacts start each substep with (0 to 1).
     pub contact_warm_start: Option<f32>,
+    /// Soft contacts' natural frequency (Hz; 0: hard).
     pub contact_hertz: Option<f32>,
+    /// Soft contacts' damping ratio.
     pub contact_damping_ratio: Option<f32>,
+    /// Stacking rate (1/m; 0: the paper's contact).
     pub contact_stacking: Option<f32>,
+    /// Joint damping (N m s/rad).
     pub joint_damping: Option<f32>,
 }
 

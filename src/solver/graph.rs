@@ -27,13 +27,16 @@ pub const MAX_COLOURS: usize = 64;
 /// Which colouring (see the module docs).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Order {
+    /// Level scheduling in stored order: rows sharing a body keep their order (joints, rods).
     Kept,
+    /// Lowest free colour, with an overflow colour (contact points).
     Greedy,
 }
 
 /// Rows of one kind sorted by colour: colour `c` is `rows[starts[c]..starts[c + 1]]`.
 #[derive(Clone, Debug, Default)]
 pub struct Colours {
+    /// Start of each colour's rows, plus the end of the last.
     pub starts: Vec<u32>,
     /// The overflow colour, whose rows may share bodies (greedy colouring only).
     pub overflow: Option<usize>,
@@ -54,6 +57,7 @@ impl Colours {
         self.overflow == Some(c)
     }
 
+    /// Number of non-empty colours.
     pub fn count(&self) -> usize {
         self.ranges().count()
     }

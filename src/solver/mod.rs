@@ -107,6 +107,7 @@ impl std::fmt::Display for SolverKind {
 /// Simulation settings (from the scene file, overridable on the command line).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Settings {
+    /// Gravitational acceleration (m/s^2).
     pub gravity: Vec3,
     /// Frame time step (s).
     pub dt: f32,
@@ -115,6 +116,7 @@ pub struct Settings {
     /// Substeps per frame, each of `dt / substeps` with `iterations` sweeps (Macklin et al.
     /// 2019). 1 is the paper's method and the reference.
     pub substeps: u32,
+    /// How the rows of a colour are solved: scalar (the reference) or SIMD lanes.
     pub solver: SolverKind,
     /// A dynamic body faster than this (m/s) counts as exploded.
     pub max_linear_speed: f32,
@@ -138,6 +140,7 @@ pub struct Settings {
     /// Soft contacts: natural frequency (Hz) and damping ratio of each contact point
     /// ([`crate::contact::Softness`]). 0 Hz (the default) is the paper's hard projection.
     pub contact_hertz: f32,
+    /// Soft contacts' damping ratio zeta (1: critical).
     pub contact_damping_ratio: f32,
     /// Stacking (1/m): in a contact the lower body counts `e^(k dh)` times heavier, `dh` the
     /// other's height above it ([`crate::contact::Stacking`]). 0 (the default) is the paper's
@@ -149,6 +152,7 @@ pub struct Settings {
     /// Velocity damping rates (1/s): each substep `v /= 1 + h c`. Zero (the default) in the
     /// paper's scenes; a game scene may use a little to let piles come to rest.
     pub linear_damping: f32,
+    /// Angular velocity damping rate (1/s): each substep `w /= 1 + h c`.
     pub angular_damping: f32,
     /// Joint damping (N m s/rad): a rotational dashpot across every ball-and-socket joint and
     /// rod, the torque `-k w_rel` ([`crate::constraint::damper`]), as a ragdoll's muscles would
@@ -505,7 +509,9 @@ fn solve_colours<T: Row>(rows: &mut [T], colours: &Colours, bodies: SharedBodies
 
 /// A row kind as the solver sweeps it: its two bodies and its scalar kernel (one projection).
 pub trait Row: Send {
+    /// Indices of the row's two bodies, (a, b).
     fn bodies(&self) -> (u32, u32);
+    /// One projection of the row on its two bodies.
     fn solve(&mut self, a: &mut SolverBody, b: &mut SolverBody);
 }
 

@@ -34,12 +34,15 @@ pub const SIMD_WIDTH: usize = <Wide as Lane>::W;
 
 /// A row kind with a lane kernel.
 pub trait LaneRows: Row + Sync + Sized {
+    /// The packed form of up to [`SIMD_WIDTH`] rows.
     type Lanes: Send + Sync + Clone + std::fmt::Debug;
     /// Whether the lane kernel covers these rows (else they are solved one by one).
     fn lane_ready(_rows: &[Self]) -> bool {
         true
     }
+    /// Packs one to [`SIMD_WIDTH`] rows of a colour into lanes.
     fn pack(rows: &[Self]) -> Self::Lanes;
+    /// One projection of every packed row.
     fn solve_lanes(lanes: &mut Self::Lanes, bodies: SharedBodies);
     /// Hands what the iterations accumulated back to the rows.
     fn unpack(_lanes: &Self::Lanes, _rows: &mut [Self]) {}

@@ -15,7 +15,9 @@ pub struct Profile {
     pub integrate: f64,
     /// 3.3 the iterations, per kind.
     pub rods: f64,
+    /// Ball-and-socket joints and dampers.
     pub joints: f64,
+    /// Contact points.
     pub contacts: f64,
     /// 3.4 velocities from the previews, poses committed.
     pub commit: f64,
@@ -48,6 +50,7 @@ impl Profile {
         ]
     }
 
+    /// The phases summed (s), without `step`.
     pub fn total(&self) -> f64 {
         self.phases().iter().map(|(_, s)| s).sum()
     }

@@ -115,6 +115,7 @@ pub enum Method {
 }
 
 impl Method {
+    /// Every method, in table column order.
     pub const ALL: [Method; 4] = [
         Method::Chain3Cheap,
         Method::Chain3Exact,
@@ -134,10 +135,14 @@ impl std::fmt::Display for Method {
     }
 }
 
+/// A run's outcome, worst last (see the module docs for the criteria).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Verdict {
+    /// None of the criteria tripped.
     Stable,
+    /// Energy gained, a pop, a joint visibly open, motion that does not settle, or shaking.
     Jittering,
+    /// Stopped by the health check, a NaN, energy created and kept, a runaway speed, or torn.
     Exploded,
 }
 
@@ -157,6 +162,7 @@ impl std::fmt::Display for Verdict {
 pub struct Measures {
     /// Frames stepped without failure, and the frames asked for.
     pub frames_run: u32,
+    /// Frames asked for.
     pub frames: u32,
     /// Largest rise of the total mechanical energy (kinetic + potential) above its start,
     /// less the scene's energy allowance, over the energy scale `KE_0 + M g (1 m)` (M: the
@@ -169,6 +175,7 @@ pub struct Measures {
     /// the speed the scene can reach by itself: its fastest start speed plus the speed of a
     /// fall across the box holding its body centres plus a metre.
     pub peak_speed: f32,
+    /// The scene's own reachable speed (m/s); `peak_speed` is judged against it.
     pub speed_reference: f32,
     /// Fastest point of any dynamic body, mean over the last second (m/s).
     pub final_speed: f32,
@@ -177,6 +184,7 @@ pub struct Measures {
     /// Largest dislocation of any constraint (cm): its maximum over the run, and its mean over
     /// the last second.
     pub max_residual_cm: f32,
+    /// Largest dislocation of any constraint (cm), mean over the last second.
     pub mean_residual_cm: f32,
     /// Largest angular violation of any constraint (rad), mean over the last second.
     pub mean_angular_rad: f32,
@@ -191,11 +199,16 @@ pub struct Measures {
     pub failed: Option<String>,
 }
 
+/// One run of the suite: a case, a method and its verdict.
 #[derive(Clone, Debug)]
 pub struct Outcome {
+    /// The case's name.
     pub case: &'static str,
+    /// The spine method it ran.
     pub method: Method,
+    /// Stable, jittering or exploded.
     pub verdict: Verdict,
+    /// What the run measured.
     pub measures: Measures,
 }
 

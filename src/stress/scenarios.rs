@@ -16,17 +16,22 @@ use crate::world::{Settings, World};
 /// One scene of the suite with its time step, iterations and length.
 #[derive(Clone, Debug)]
 pub struct Case {
+    /// Case name, in the suite's table and its recordings' names.
     pub name: &'static str,
+    /// One line on what the case does.
     pub description: &'static str,
+    /// What the case builds.
     pub scenario: Scenario,
     /// Frame time step (s).
     pub dt: f32,
+    /// Solver iterations per substep.
     pub iterations: u32,
     /// Simulated time (s).
     pub seconds: f32,
 }
 
 impl Case {
+    /// Frames to run: `seconds / dt`, rounded, at least 1.
     pub fn frames(&self) -> u32 {
         (self.seconds / self.dt).round().max(1.0) as u32
     }
@@ -126,13 +131,20 @@ pub enum Scenario {
     /// (spread equally over chain3's three joints), slumping under gravity. The forearms' mass
     /// is divided by `forearm_mass_divisor` (1: the reference humanoid).
     Slump {
+        /// Forward tilt of the upper body at the start (deg).
         tilt_deg: f32,
+        /// Springs of relaxation 1 and alpha_b = alpha_t = 1 instead of the suite's spine
+        /// stiffness.
         stiff_spine: bool,
+        /// Divisor of both forearms' mass (1: the reference humanoid).
         forearm_mass_divisor: f32,
     },
     /// Pelvis fixed, standing; a sphere of `mass_ratio` times the forearm's mass hangs from the
     /// left hand by a ball-and-socket (the method's joint flavour).
-    HeavyHand { mass_ratio: f32 },
+    HeavyHand {
+        /// The sphere's mass over the forearm's.
+        mass_ratio: f32,
+    },
     /// `links` capsules of 10 cm and 1 kg hung from a fixed support, 4 m for 40 links: joined by
     /// ball-and-sockets (chain3 methods, their flavour) or by rods between the link centres
     /// (rod: alpha_b = 0, free bending like the joints; alpha_t = 0.5; the paper's length
@@ -140,27 +152,43 @@ pub enum Scenario {
     /// every link pulled `stretch_m` away from its joint (at 45 degrees to the chain, sideways
     /// alternately), so the errors add up along the chain.
     Chain {
+        /// Number of links.
         links: u32,
+        /// Released from horizontal; otherwise hanging straight down.
         horizontal: bool,
+        /// Each link's pull away from its joint at the start (m).
         stretch_m: f32,
     },
     /// Contacts on, a floor, a free standing ragdoll hit in the chest by a sphere of `mass` kg
     /// flying at `speed` m/s from 1.5 m away.
-    Projectile { mass: f32, speed: f32 },
+    Projectile {
+        /// Sphere mass (kg).
+        mass: f32,
+        /// Sphere speed toward the chest (m/s).
+        speed: f32,
+    },
     /// Pelvis fixed, the spine bent forward by `psi_deg` at the start, its springs (rod:
     /// alpha_b, alpha_t) resting straight: the rod onto its arc, so its hard constraints hold;
     /// the joint spines as far as their swing limits allow (74 of 75 degrees), by equal
     /// rotations of their spine joints. The springs may give back the potential energy the
     /// bend took (the energy allowance).
-    BentSpine { psi_deg: f32 },
+    BentSpine {
+        /// Forward bend of the spine at the start (deg); joint spines stop at their swing limits.
+        psi_deg: f32,
+    },
     /// Hung by the head (fixed), the rest of the body hanging below it at rest, the spine bent
     /// by `psi_deg` (the pelvis side moved onto the rod's arc, or the spine joints rotated).
-    Hanging { psi_deg: f32 },
+    Hanging {
+        /// Bend of the spine at the start (deg).
+        psi_deg: f32,
+    },
 }
 
 /// A scene ready to run, with what the verdict needs to know about it.
 pub struct Built {
+    /// The scene's world and ragdolls.
     pub lab: Lab,
+    /// Frames to run.
     pub frames: u32,
     /// Whether everything should be nearly at rest by the end of the run.
     pub settles: bool,
@@ -175,6 +203,7 @@ const ROD_ALPHA_BEND: f32 = 0.005;
 const ROD_ALPHA_TWIST: f32 = 0.5;
 
 impl Method {
+    /// The ragdoll spine this method builds.
     pub fn spine(self) -> SpineKind {
         match self {
             Method::Chain3Cheap | Method::Chain3Exact => SpineKind::Chain3,
