@@ -6,8 +6,8 @@ use anyhow::Context as _;
 
 use crate::lab::Lab;
 use crate::metrics::FrameMetrics;
-use crate::record::{self, Recorder};
-use crate::scene::Scene;
+use crate::record::{self, Recorder, RecordingInfo};
+use crate::scene::RecordDef;
 use crate::sim::Observer;
 use crate::world::SimulationError;
 
@@ -30,11 +30,18 @@ pub(super) fn stress(out: &Path) -> anyhow::Result<()> {
             let name = format!("{}_{method}", case.name);
             let path = folder.join(format!("{name}.rrd"));
             // every run is recorded; a stable run's file is deleted afterwards
-            let text = format!("name = \"stress_{name}\"\n# {}\n", case.description);
-            let scene = Scene::parse(format!("stress/{name}"), &text)?;
+            let info = RecordingInfo {
+                name: format!("stress_{name}"),
+                about: format!(
+                    "`rodlab stress`, case {}, {method}: {}\n",
+                    case.name, case.description
+                ),
+                kinematics: false,
+                options: RecordDef::default(),
+            };
             let mut recorder = LazyRecorder {
                 path: path.clone(),
-                scene,
+                info,
                 recorder: None,
             };
             let outcome = stress::run_case(case, method, &mut recorder)?;
@@ -85,14 +92,16 @@ pub(super) fn stress(out: &Path) -> anyhow::Result<()> {
 /// Opens its recording when the run begins, since the stress cases build their own worlds.
 struct LazyRecorder {
     path: PathBuf,
-    scene: Scene,
+    info: RecordingInfo,
     recorder: Option<Recorder>,
 }
 
 impl Observer for LazyRecorder {
     fn begin(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()> {
-        let rec = record::save_to(&self.path, &self.scene)?;
-        let recorder = self.recorder.insert(Recorder::new(rec, lab, &self.scene)?);
+        let rec = record::save_to(&self.path, self.info.clone())?;
+        let recorder = self
+            .recorder
+            .insert(Recorder::new(rec, lab, self.info.clone())?);
         recorder.begin(lab, metrics)
     }
 

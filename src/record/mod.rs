@@ -32,7 +32,7 @@ use rerun::blueprint::{
 };
 use rerun::RecordingStream;
 
-use crate::scene::Scene;
+use crate::scene::{RecordDef, Scene};
 
 mod bodies;
 mod columns;
@@ -46,6 +46,36 @@ pub mod tune;
 pub use kinematics::record_kinematics;
 pub use recorder::Recorder;
 pub use sweep::save_sweep;
+
+/// What a recording says about where it came from, apart from the lab it draws: enough to
+/// record a lab built in code (the stress suite's cases) as well as one built from a scene file.
+#[derive(Clone, Debug)]
+pub struct RecordingInfo {
+    /// Recording name (the viewer's title, and the heading of the `scene` text).
+    pub name: String,
+    /// Markdown shown under the name in the viewer's "Scene file" tab: the scene file's path
+    /// and text, or what built the lab.
+    pub about: String,
+    /// The plot layout: the Fig. 6 comparison's (end gaps) or a simulation's (residuals).
+    pub kinematics: bool,
+    /// The `[record]` options: what to log, how often, and whether to write a footer.
+    pub options: RecordDef,
+}
+
+impl From<&Scene> for RecordingInfo {
+    fn from(scene: &Scene) -> Self {
+        RecordingInfo {
+            name: scene.name(),
+            about: format!(
+                "`{}`\n\n```toml\n{}\n```\n",
+                scene.path.display(),
+                scene.text
+            ),
+            kinematics: scene.def.kinematics.is_some(),
+            options: scene.def.record.clone(),
+        }
+    }
+}
 
 /// Application id of every rodlab recording.
 pub const APPLICATION_ID: &str = "rodlab";
@@ -71,13 +101,14 @@ fn flush(rec: &RecordingStream) -> anyhow::Result<()> {
         })
 }
 
-/// The layout for a scene: the 3D view beside its plots (residuals, then tabs for energy, pose
-/// deviation, rod scalars and bone errors; for the kinematics scene, the end gaps).
-pub fn blueprint(scene: &Scene) -> Blueprint {
+/// The layout for a recording: the 3D view beside its plots (residuals, then tabs for energy,
+/// pose deviation, rod scalars and bone errors; for the kinematics scene, the end gaps).
+pub fn blueprint(info: impl Into<RecordingInfo>) -> Blueprint {
+    let info = info.into();
     let series = |name: &str, origin: &str| {
         ContainerLike::from(TimeSeriesView::new(name).with_origin(origin))
     };
-    let plots = if scene.def.kinematics.is_some() {
+    let plots = if info.kinematics {
         Vertical::new([
             series("End gap from the rod (cm)", "metrics/end_gap_cm"),
             series("Bend (rad)", "metrics/bend_rad"),
@@ -118,14 +149,16 @@ fn create_parent(path: &Path) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Opens a recording of `scene` that writes to `path` (creating its folder), with its blueprint
-/// (and the footer unless `[record] footer = false`).
-pub fn save_to(path: &Path, scene: &Scene) -> anyhow::Result<RecordingStream> {
+/// Opens a recording (of a scene, or described by a [`RecordingInfo`]) that writes to `path`
+/// (creating its folder), with its blueprint (and the footer unless `[record] footer = false`).
+pub fn save_to(path: &Path, info: impl Into<RecordingInfo>) -> anyhow::Result<RecordingStream> {
+    let info = info.into();
     create_parent(path)?;
+    let footer = info.options.footer;
     let rec = rerun::RecordingStreamBuilder::new(APPLICATION_ID)
-        .recording_name(scene.name())
-        .with_blueprint(blueprint(scene));
-    let rec = if scene.def.record.footer {
+        .recording_name(info.name.clone())
+        .with_blueprint(blueprint(info));
+    let rec = if footer {
         rec.save(path)?
     } else {
         let options = rerun::sink::FileSinkOptions {

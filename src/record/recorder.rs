@@ -16,13 +16,13 @@ use super::bodies::{
 use super::columns::ScalarColumns;
 use super::style::{bone_color, spine_color, strip_style};
 use super::tracks::{Track, TrackKind};
-use super::{flush, FLUSH_EVERY_S, FLUSH_WALL_S};
+use super::{flush, RecordingInfo, FLUSH_EVERY_S, FLUSH_WALL_S};
 use crate::body::BodyId;
 use crate::constraint::Constraint;
 use crate::lab::Lab;
 use crate::math::Vec3;
 use crate::metrics::FrameMetrics;
-use crate::scene::{RecordDef, Scene};
+use crate::scene::RecordDef;
 use crate::sim::Observer;
 use crate::skeleton::BoneMethod;
 use crate::world::{SimulationError, World};
@@ -94,7 +94,12 @@ fn group_of(lab: &Lab, body: BodyId) -> String {
 impl Recorder {
     /// A recorder of `lab` into `rec`; logs the static parts (scene text, ground, shapes, styles)
     /// at once.
-    pub fn new(rec: RecordingStream, lab: &Lab, scene: &Scene) -> anyhow::Result<Self> {
+    pub fn new(
+        rec: RecordingStream,
+        lab: &Lab,
+        info: impl Into<RecordingInfo>,
+    ) -> anyhow::Result<Self> {
+        let info = info.into();
         let world = &lab.world;
         rec.set_log_time_enabled(false);
         let batches = body_batches(lab, |id| format!("world/{}", group_of(lab, id)));
@@ -133,7 +138,7 @@ impl Recorder {
             ROD_SERIES.map(|name| scalars.series(&format!("metrics/rod/{name}"), rods.len()));
         let mut recorder = Recorder {
             rec,
-            options: scene.def.record.clone(),
+            options: info.options.clone(),
             batches,
             poses,
             joints,
@@ -146,7 +151,7 @@ impl Recorder {
             scalars,
             live: false,
         };
-        recorder.log_static(lab, scene)?;
+        recorder.log_static(lab, &info)?;
         Ok(recorder)
     }
 
@@ -186,16 +191,11 @@ impl Recorder {
         self.scalars.send(rec)
     }
 
-    fn log_static(&mut self, lab: &Lab, scene: &Scene) -> anyhow::Result<()> {
+    fn log_static(&mut self, lab: &Lab, info: &RecordingInfo) -> anyhow::Result<()> {
         let world = &lab.world;
         let rec = &self.rec;
         rec.log_static("world", &rerun::ViewCoordinates::RIGHT_HAND_Y_UP())?;
-        let text = format!(
-            "# {}\n\n`{}`\n\n```toml\n{}\n```\n",
-            scene.name(),
-            scene.path.display(),
-            scene.text
-        );
+        let text = format!("# {}\n\n{}", info.name, info.about);
         rec.log_static("scene", &rerun::TextDocument::from_markdown(text))?;
         log_ground(rec, world)?;
         for batch in &mut self.batches {
