@@ -46,6 +46,12 @@ use crate::scene::{Scene, SceneDef};
 use crate::sim::Overrides;
 use crate::world::SolverKind;
 
+mod features;
+mod table;
+
+pub use features::{feature_costs, FeatureCost};
+pub use table::{parse_csv, to_csv};
+
 /// What to sweep.
 #[derive(Clone, Debug)]
 pub struct SweepConfig {
@@ -348,74 +354,6 @@ pub fn median(values: &mut [f64]) -> f64 {
     values[values.len() / 2]
 }
 
-const HEADER: &str =
-    "method,spine,joint,solver,substeps,warm_start,contact_hertz,contact_stacking,dt,iterations,step_us,\
-mean_dislocation_cm,max_dislocation_cm,mean_angular_rad,max_angular_rad,max_overlap_cm,failed";
-
-/// The rows as CSV text, header first (see the module docs for the columns).
-pub fn to_csv(rows: &[SweepRow]) -> String {
-    crate::csv_table::to_text(
-        HEADER,
-        rows.iter().map(|r| {
-            vec![
-                r.method.clone(),
-                r.spine.clone(),
-                r.joint.clone(),
-                r.solver.clone(),
-                r.substeps.to_string(),
-                r.warm_start.to_string(),
-                r.contact_hertz.to_string(),
-                r.contact_stacking.to_string(),
-                r.dt.to_string(),
-                r.iterations.to_string(),
-                format!("{:.3}", r.step_us),
-                format!("{:.6}", r.mean_dislocation_cm),
-                format!("{:.6}", r.max_dislocation_cm),
-                format!("{:.6}", r.mean_angular_rad),
-                format!("{:.6}", r.max_angular_rad),
-                format!("{:.4}", r.max_overlap_cm),
-                r.failed.clone().unwrap_or_default(),
-            ]
-        }),
-    )
-}
-
-/// Reads back what [`to_csv`] wrote (columns as in the module's table: method, spine, joint,
-/// solver, substeps, warm_start, contact_hertz, contact_stacking, dt, iterations, step_us, the
-/// four residuals, max_overlap_cm, failed); errors name the line and the column.
-pub fn parse_csv(text: &str) -> anyhow::Result<Vec<SweepRow>> {
-    use anyhow::Context as _;
-    let mut rows = Vec::new();
-    for (line, fields) in crate::csv_table::read(text, HEADER)? {
-        let number = |column: usize| -> anyhow::Result<f64> {
-            fields[column].parse::<f64>().with_context(|| {
-                let name = HEADER.split(',').nth(column).unwrap_or("?");
-                format!("line {line}: column {name}: not a number")
-            })
-        };
-        rows.push(SweepRow {
-            method: fields[0].to_string(),
-            spine: fields[1].to_string(),
-            joint: fields[2].to_string(),
-            solver: fields[3].to_string(),
-            substeps: number(4)? as u32,
-            warm_start: number(5)? as f32,
-            contact_hertz: number(6)? as f32,
-            contact_stacking: number(7)? as f32,
-            dt: number(8)? as f32,
-            iterations: number(9)? as u32,
-            step_us: number(10)?,
-            mean_dislocation_cm: number(11)?,
-            max_dislocation_cm: number(12)?,
-            mean_angular_rad: number(13)?,
-            max_angular_rad: number(14)?,
-            max_overlap_cm: number(15)?,
-            failed: Some(fields[16].to_string()).filter(|s| !s.is_empty()),
-        });
-    }
-    Ok(rows)
-}
-
 /// Residual against time per step, one line per method (and time step, when several) through
 /// its iteration counts; a method at several substeps or solvers has one line for each (the
 /// label carries them), so iterations and substeps can be compared at equal cost.
@@ -460,83 +398,4 @@ pub fn machine_name() -> String {
         })
         .unwrap_or_else(|| std::env::consts::ARCH.to_string());
     format!("{model}, {cores} cores")
-}
-
-/// What one modelled feature costs in a scene: the median time with it and without it.
-#[derive(Clone, Debug, PartialEq)]
-pub struct FeatureCost {
-    /// The feature's name.
-    pub feature: &'static str,
-    /// Whether the scene as written models it.
-    pub modelled: bool,
-    /// Median microseconds per frame with the feature on and off.
-    pub with_us: f64,
-    /// Median microseconds per frame with the feature off.
-    pub without_us: f64,
-}
-
-/// Times the scene's step with and without contacts and joint limits, and the frame's measure
-/// with and without the animation-bone mapping (§6), each over `frames` frames. A feature the
-/// scene does not model is timed switched on, to show what it would cost. Recording is timed
-/// by the caller, which owns the recorder.
-pub fn feature_costs(scene: &Scene, frames: u32) -> anyhow::Result<Vec<FeatureCost>> {
-    use crate::constraint::Constraint;
-    let base = scene.build()?;
-    let has_limits = base
-        .world
-        .constraints
-        .iter()
-        .any(|c| matches!(c, Constraint::BallSocket(j) if j.limit.is_some()));
-    let has_bones = base.ragdolls.iter().any(|r| r.skeleton.is_some());
-    let time = |edit: &dyn Fn(&mut Lab), measure: bool| -> anyhow::Result<f64> {
-        let mut lab = scene.build()?;
-        edit(&mut lab);
-        let mut metrics = FrameMetrics::default();
-        let mut times = Vec::with_capacity(frames as usize);
-        for frame in 0..frames {
-            let start = Instant::now();
-            if measure {
-                metrics.measure(&lab);
-            } else {
-                lab.step()?;
-            }
-            if frame >= frames / 10 {
-                times.push(start.elapsed().as_secs_f64() * 1e6);
-            }
-            if measure {
-                lab.step()?;
-            }
-        }
-        Ok(median(&mut times))
-    };
-    let contacts = |on: bool| move |lab: &mut Lab| lab.world.settings.contacts = on;
-    let no_limits = |lab: &mut Lab| {
-        for c in &mut lab.world.constraints {
-            if let Constraint::BallSocket(joint) = c {
-                joint.limit = None;
-            }
-        }
-    };
-    let no_bones = |lab: &mut Lab| lab.ragdolls.iter_mut().for_each(|r| r.skeleton = None);
-    let keep = |_: &mut Lab| {};
-    Ok(vec![
-        FeatureCost {
-            feature: "contacts",
-            modelled: base.world.settings.contacts,
-            with_us: time(&contacts(true), false)?,
-            without_us: time(&contacts(false), false)?,
-        },
-        FeatureCost {
-            feature: "joint limits",
-            modelled: has_limits,
-            with_us: time(&keep, false)?,
-            without_us: time(&no_limits, false)?,
-        },
-        FeatureCost {
-            feature: "bone mapping (measure)",
-            modelled: has_bones,
-            with_us: time(&keep, true)?,
-            without_us: time(&no_bones, true)?,
-        },
-    ])
 }

@@ -9,6 +9,10 @@ use crate::ragdoll::SpineKind;
 use crate::sim::Overrides;
 use crate::world::SolverKind;
 
+use super::parse::{
+    non_negative, parse_choice, positive_seconds, positive_speed, positive_stiffness,
+    stacking_rate, unit_interval,
+};
 use super::tune;
 
 /// The `rodlab` command line.
@@ -222,62 +226,6 @@ pub struct OverrideArgs {
     /// Record every N-th frame (frames 0, N, 2N, ...): a smaller file of a long run.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     pub record_every: Option<u32>,
-}
-
-/// Parses a choice the way scene files spell it (the enum's serde names).
-pub(crate) fn parse_choice<T: serde::de::DeserializeOwned>(s: &str) -> Result<T, String> {
-    use serde::de::IntoDeserializer;
-    T::deserialize(s.into_deserializer())
-        .map_err(|e: serde::de::value::Error| e.to_string().replace('`', "\""))
-}
-
-pub(super) fn unit_interval(s: &str) -> Result<f32, String> {
-    match s.parse::<f32>() {
-        Ok(v) if (0.0..=1.0).contains(&v) => Ok(v),
-        Ok(v) => Err(format!("must lie in [0, 1], got {v}")),
-        Err(e) => Err(e.to_string()),
-    }
-}
-
-pub(super) fn non_negative(s: &str) -> Result<f32, String> {
-    match s.parse::<f32>() {
-        Ok(v) if v >= 0.0 && v.is_finite() => Ok(v),
-        Ok(v) => Err(format!("must be 0 or more, got {v}")),
-        Err(e) => Err(e.to_string()),
-    }
-}
-
-fn positive_seconds(s: &str) -> Result<f32, String> {
-    match s.parse::<f32>() {
-        Ok(v) if v > 0.0 && v.is_finite() => Ok(v),
-        Ok(v) => Err(format!("must be a positive number of seconds, got {v}")),
-        Err(e) => Err(e.to_string()),
-    }
-}
-
-pub(super) fn positive_stiffness(s: &str) -> Result<f32, String> {
-    match s.parse::<f32>() {
-        Ok(v) if v > 0.0 && v.is_finite() => Ok(v),
-        Ok(v) => Err(format!("must be a positive stiffness in N m/rad, got {v}")),
-        Err(e) => Err(e.to_string()),
-    }
-}
-
-fn positive_speed(s: &str) -> Result<f32, String> {
-    match s.parse::<f32>() {
-        Ok(v) if v > 0.0 => Ok(v),
-        Ok(v) => Err(format!("must be a positive speed in m/s (or inf), got {v}")),
-        Err(e) => Err(e.to_string()),
-    }
-}
-
-fn stacking_rate(s: &str) -> Result<f32, String> {
-    let max = crate::scene::MAX_CONTACT_STACKING;
-    match s.parse::<f32>() {
-        Ok(v) if (0.0..=max).contains(&v) => Ok(v),
-        Ok(v) => Err(format!("must be a rate from 0 to {max} per metre, got {v}")),
-        Err(e) => Err(e.to_string()),
-    }
 }
 
 impl From<&OverrideArgs> for Overrides {

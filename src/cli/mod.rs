@@ -30,6 +30,7 @@ macro_rules! report {
 
 mod args;
 mod main_job;
+mod parse;
 mod run;
 pub mod stop;
 mod stress;

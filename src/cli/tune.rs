@@ -7,7 +7,7 @@ use anyhow::{bail, Context as _};
 use clap::Args;
 use rayon::prelude::*;
 
-use super::args::{non_negative, parse_choice, positive_stiffness, unit_interval};
+use super::parse::{non_negative, parse_choice, positive_stiffness, unit_interval};
 use crate::ragdoll::SpineKind;
 use crate::record::tune::TuneRecorder;
 use crate::scene::Scene;

@@ -1,0 +1,148 @@
+//! [`BodyLanes`]: W solver bodies gathered into lanes by index and scattered back after the
+//! batch, with the body methods of [`crate::solver_body::SolverBody`] per lane.
+
+use super::{Lane, SymM3, MAX_LANES, Q, V3};
+use crate::solver_body::SharedBodies;
+
+/// W solver bodies, one per lane, gathered by index.
+#[derive(Clone, Copy, Debug)]
+pub struct BodyLanes<L> {
+    /// Preview position p* (m).
+    pub position: V3<L>,
+    /// Preview orientation q*.
+    pub orientation: Q<L>,
+    /// Orientation predicted at the substep's start, before any correction.
+    pub predicted: Q<L>,
+    /// Sum of the rotation vectors applied this substep (rad); `orientation` is `predicted` turned
+    /// by it.
+    pub rotation_correction: V3<L>,
+    /// Inverse mass (1/kg); zero for immovable bodies.
+    pub inverse_mass: L,
+    /// World inverse inertia (1/(kg m^2)).
+    pub inverse_inertia: SymM3<L>,
+}
+
+impl<L: Lane> BodyLanes<L> {
+    /// Gathers body `index[i]` into lane i.
+    ///
+    /// # Safety
+    /// No other thread may be writing those bodies (see [`SharedBodies`]).
+    #[inline(always)]
+    pub unsafe fn gather(bodies: SharedBodies, index: &[u32]) -> Self {
+        // straight from the bodies' memory: no copies, one load per group of four floats
+        // only the first W entries are read: the rest repeat body 0 without another lookup
+        let first = bodies.quads(index[0]);
+        let quads: [&[[f32; 4]; 6]; MAX_LANES] = std::array::from_fn(|i| {
+            if i < L::W {
+                bodies.quads(index[i])
+            } else {
+                first
+            }
+        });
+        // group k of every body, transposed: four fields in lanes
+        let group = |k: usize| L::transpose4(std::array::from_fn(|i| &quads[i][k]));
+        let [qx, qy, qz, qw] = group(0);
+        let [px, py, pz, pw] = group(1);
+        let [x, y, z, inverse_mass] = group(2);
+        let [cx, cy, cz, xx] = group(3);
+        // column-major Mat3 of a symmetric matrix: (x_axis.y, x_axis.z, y_axis.x, y_axis.y)
+        let [xy, xz, _, yy] = group(4);
+        // (y_axis.z, z_axis.x, z_axis.y, z_axis.z)
+        let [yz, _, _, zz] = group(5);
+        BodyLanes {
+            position: V3 { x, y, z },
+            orientation: Q {
+                x: qx,
+                y: qy,
+                z: qz,
+                w: qw,
+            },
+            predicted: Q {
+                x: px,
+                y: py,
+                z: pz,
+                w: pw,
+            },
+            rotation_correction: V3 {
+                x: cx,
+                y: cy,
+                z: cz,
+            },
+            inverse_mass,
+            inverse_inertia: SymM3 {
+                xx,
+                yy,
+                zz,
+                xy,
+                xz,
+                yz,
+            },
+        }
+    }
+
+    /// Writes the moving parts (pose and correction) back to body `index[i]`, skipping
+    /// immovable bodies: static bodies may repeat an index across lanes, and never change.
+    ///
+    /// # Safety
+    /// The movable bodies among `index` must be this batch's alone (see [`SharedBodies`]).
+    #[inline(always)]
+    pub unsafe fn scatter(&self, bodies: SharedBodies, index: &[u32]) {
+        let o = self.orientation;
+        let orientation = L::untranspose4([o.x, o.y, o.z, o.w]);
+        let p = self.position;
+        let position = L::untranspose4([p.x, p.y, p.z, self.inverse_mass]);
+        let c = self.rotation_correction;
+        let correction = L::untranspose4([c.x, c.y, c.z, self.inverse_inertia.xx]);
+        for (i, &k) in index.iter().enumerate().take(L::W) {
+            // the gathered inverse mass, not a reload: immovable lanes are skipped
+            if self.inverse_mass.lane(i) == 0.0 {
+                continue;
+            }
+            let quads = bodies.get_mut(k).as_quads_mut();
+            quads[0] = orientation[i];
+            // the 4th floats are the body's own inverse mass and inertia entry, unchanged
+            quads[2] = position[i];
+            quads[3] = correction[i];
+        }
+    }
+
+    #[inline(always)]
+    fn rotate_preview(&mut self, dtheta: V3<L>) {
+        self.rotation_correction = self.rotation_correction + dtheta;
+        self.orientation = self.predicted.rotate_by_small(self.rotation_correction);
+    }
+
+    /// `SolverBody::apply_positional_impulse` per lane.
+    #[inline(always)]
+    pub fn apply_positional_impulse(&mut self, impulse: V3<L>, r: V3<L>) {
+        self.position = self.position + impulse.scale(self.inverse_mass);
+        let dtheta = self.inverse_inertia.mul_vec(r.cross(impulse));
+        self.rotate_preview(dtheta);
+    }
+
+    /// `SolverBody::apply_linear_impulse` per lane.
+    #[inline(always)]
+    pub fn apply_linear_impulse(&mut self, impulse: V3<L>) {
+        self.position = self.position + impulse.scale(self.inverse_mass);
+    }
+
+    /// `SolverBody::apply_angular_impulse` per lane.
+    #[inline(always)]
+    pub fn apply_angular_impulse(&mut self, l: V3<L>) {
+        let dtheta = self.inverse_inertia.mul_vec(l);
+        self.rotate_preview(dtheta);
+    }
+
+    /// `SolverBody::positional_inverse_mass` per lane: `1/m + (r x n) . I^-1 (r x n)`.
+    #[inline(always)]
+    pub fn positional_inverse_mass(&self, r: V3<L>, n: V3<L>) -> L {
+        let rn = r.cross(n);
+        self.inverse_mass + rn.dot(self.inverse_inertia.mul_vec(rn))
+    }
+
+    /// `SolverBody::angular_inverse_mass` per lane: `g . I^-1 g`.
+    #[inline(always)]
+    pub fn angular_inverse_mass(&self, g: V3<L>) -> L {
+        g.dot(self.inverse_inertia.mul_vec(g))
+    }
+}

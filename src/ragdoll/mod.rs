@@ -1,0 +1,161 @@
+//! The reference humanoid of `shared/humanoid.md` (1.80 m, 75 kg), built into a [`World`].
+//!
+//! One builder serves scenes, tests and benchmarks. It starts from any pose: a root transform
+//! applied to the standing reference pose, plus per-joint rotations of each child subtree about
+//! its joint centre (in the parent's reference frame), applied parent first.
+//!
+//! Joint limits and anchors are defined on the reference pose (anatomical zero); angular
+//! springs, when asked for, rest at the starting pose (instantiated at the transition, §6).
+//!
+//! Spines:
+//! - `chain3`: pelvis - lower spine - upper spine - chest, three ball-and-socket joints;
+//! - `single`: pelvis - chest, one ball-and-socket at the lumbosacral joint with the three
+//!   spine joints' ranges added up (swing 75 deg, twist +-45 deg);
+//! - `rod`: pelvis - chest joined by one rod constraint (paper §5), instantiated at the starting
+//!   pose (§6) with the body normals pointing forward.
+//!
+//! With `single` and `rod` the removed spine bodies' 12.24 kg are shared equally between
+//! pelvis and chest, so the total stays 75 kg.
+
+mod build;
+mod table;
+
+pub use build::build_humanoid;
+pub use table::{joint_names, part_names, TOTAL_MASS};
+
+use std::ops::Range;
+
+use serde::Deserialize;
+
+use crate::body::BodyId;
+use crate::constraint::{JointFlavour, LengthCorrection, Stiffness, TwistMode};
+use crate::math::{Iso, Quat, Vec3};
+use crate::skeleton::Skeleton;
+use crate::world::World;
+
+/// How the humanoid's spine between pelvis and chest is built.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum SpineKind {
+    /// Pelvis - lower spine - upper spine - chest, three ball-and-socket joints.
+    #[default]
+    Chain3,
+    /// Pelvis - chest joined by one rod constraint (§5), instantiated at the starting pose (§6).
+    Rod,
+    /// Pelvis - chest, one ball-and-socket with the three spine joints' ranges added up.
+    Single,
+}
+
+impl std::fmt::Display for SpineKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            SpineKind::Chain3 => "chain3",
+            SpineKind::Rod => "rod",
+            SpineKind::Single => "single",
+        })
+    }
+}
+
+/// What to build.
+#[derive(Clone, Debug)]
+pub struct HumanoidSpec {
+    /// Ragdoll name; prefixes its bodies' and constraints' names (`name/part`).
+    pub name: String,
+    /// Which spine to build.
+    pub spine: SpineKind,
+    /// How the ball-and-socket joints' point part is solved.
+    pub joint_flavour: JointFlavour,
+    /// Applied to the whole standing reference pose.
+    pub root: Iso,
+    /// Joint name -> rotation of the child subtree about the joint centre.
+    pub joint_rotations: Vec<(String, Quat)>,
+    /// Relaxation of the spine joints' angular springs (None: no spring).
+    pub spine_spring: Option<f32>,
+    /// Relaxation of the other joints' angular springs (None: no spring).
+    pub limb_spring: Option<f32>,
+    /// Parts made fixed (e.g. "pelvis").
+    pub fixed: Vec<String>,
+    /// Rod parameters (used by the `rod` spine).
+    pub rod: RodParams,
+    /// Constant external forces (N) on parts, e.g. a push on the chest.
+    pub forces: Vec<(String, Vec3)>,
+}
+
+/// The rod spine's soft-constraint relaxations and twist measure.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RodParams {
+    /// Bending relaxation alpha_b in [0, 1] (eq. 11); default 0.1.
+    pub alpha_bend: f32,
+    /// Twisting relaxation alpha_t in [0, 1] (eq. 12-13); default 0.5.
+    pub alpha_twist: f32,
+    /// Stiffness in physical units, replacing the alphas where set.
+    pub bend_stiffness: Option<Stiffness>,
+    /// Twisting stiffness, replacing `alpha_twist` where set.
+    pub twist_stiffness: Option<Stiffness>,
+    /// How the twist tau is measured; default exact.
+    pub twist_mode: TwistMode,
+    /// How the length constraint (eq. 9) is corrected; default the paper's offset correction.
+    pub length_correction: LengthCorrection,
+}
+
+impl Default for RodParams {
+    fn default() -> Self {
+        RodParams {
+            alpha_bend: 0.1,
+            alpha_twist: 0.5,
+            bend_stiffness: None,
+            twist_stiffness: None,
+            twist_mode: TwistMode::Exact,
+            length_correction: LengthCorrection::Offset,
+        }
+    }
+}
+
+impl HumanoidSpec {
+    /// The standing reference pose (identity root) with no joint rotations, springs, fixed parts
+    /// or forces, exact joints and the default rod parameters.
+    pub fn new(name: impl Into<String>, spine: SpineKind) -> Self {
+        HumanoidSpec {
+            name: name.into(),
+            spine,
+            joint_flavour: JointFlavour::Exact,
+            root: Iso::IDENTITY,
+            joint_rotations: Vec::new(),
+            spine_spring: None,
+            limb_spring: None,
+            fixed: Vec::new(),
+            rod: RodParams::default(),
+            forces: Vec::new(),
+        }
+    }
+}
+
+/// A built ragdoll: which bodies and constraints of the world are its own.
+#[derive(Clone, Debug)]
+pub struct Ragdoll {
+    /// Ragdoll name, the prefix of its bodies' and constraints' names.
+    pub name: String,
+    /// Its spine.
+    pub spine: SpineKind,
+    /// Indices of its bodies in the world's bodies.
+    pub bodies: Range<usize>,
+    /// Indices of its constraints in the world's constraints.
+    pub constraints: Range<usize>,
+    /// The animation skeleton between hips and chest (§6); None for plain groups of bodies.
+    pub skeleton: Option<Skeleton>,
+    /// Body positions of the starting pose, the target of the controllability measure.
+    pub target_positions: Vec<Vec3>,
+}
+
+impl Ragdoll {
+    /// Ids of its bodies.
+    pub fn body_ids(&self) -> impl Iterator<Item = BodyId> + '_ {
+        self.bodies.clone().map(|i| BodyId(i as u32))
+    }
+
+    /// The body of part `part` (e.g. "chest"), if this ragdoll has it.
+    pub fn part(&self, world: &World, part: &str) -> Option<BodyId> {
+        let full = format!("{}/{part}", self.name);
+        self.body_ids().find(|&id| world.body(id).name == full)
+    }
+}

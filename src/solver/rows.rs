@@ -1,0 +1,100 @@
+//! The sweep over a kind's rows, colour by colour (scalar or from packed lanes, on several
+//! threads when a colour is large), and the [`Row`] trait it solves through.
+
+use super::body::{SharedBodies, SolverBody};
+use super::graph::Colours;
+use super::packed::{self, Packed};
+use super::PARALLEL_MIN_ROWS;
+use crate::constraint::{DamperRow, JointRow, RodRow};
+use crate::contact::ContactPoint;
+use rayon::prelude::*;
+
+/// One sweep over a kind's rows, colour by colour: from their packed lanes with the SIMD solver
+/// ([`packed::Packed::solve`]), else one row at a time with the scalar kernel (the reference).
+/// Rows of a colour are independent, so a large colour is split into chunks across threads;
+/// the overflow colour is always sequential.
+pub(super) fn sweep<T: packed::LaneRows>(
+    rows: &mut [T],
+    colours: &Colours,
+    lanes: Option<&mut Packed<T>>,
+    bodies: SharedBodies,
+    parallel: bool,
+) {
+    if let Some(lanes) = lanes {
+        return lanes.solve(rows, bodies, parallel);
+    }
+    solve_colours(rows, colours, bodies, parallel);
+}
+
+/// The scalar sweep of [`sweep`] (also the dampers', which have no lane kernel).
+pub(super) fn solve_colours<T: Row>(
+    rows: &mut [T],
+    colours: &Colours,
+    bodies: SharedBodies,
+    parallel: bool,
+) {
+    let solve_row = |row: &mut T| {
+        let (a, b) = row.bodies();
+        // SAFETY: rows of a colour share no movable body, and chunks of a colour are
+        // disjoint; the overflow colour runs on one thread.
+        unsafe { bodies.with_pair(a, b, |a, b| row.solve(a, b)) };
+    };
+    for (colour, range) in colours.ranges() {
+        let rows = &mut rows[range];
+        if parallel && !colours.is_overflow(colour) && rows.len() >= PARALLEL_MIN_ROWS {
+            let chunk = rows.len().div_ceil(rayon::current_num_threads());
+            rows.par_chunks_mut(chunk)
+                .for_each(|rows| rows.iter_mut().for_each(solve_row));
+        } else {
+            rows.iter_mut().for_each(solve_row);
+        }
+    }
+}
+
+/// A row kind as the solver sweeps it: its two bodies and its scalar kernel (one projection).
+pub trait Row: Send {
+    /// Indices of the row's two bodies, (a, b).
+    fn bodies(&self) -> (u32, u32);
+    /// One projection of the row on its two bodies.
+    fn solve(&mut self, a: &mut SolverBody, b: &mut SolverBody);
+}
+
+impl Row for JointRow {
+    fn bodies(&self) -> (u32, u32) {
+        (self.body_a, self.body_b)
+    }
+    #[inline]
+    fn solve(&mut self, a: &mut SolverBody, b: &mut SolverBody) {
+        JointRow::solve(self, a, b)
+    }
+}
+
+impl Row for DamperRow {
+    fn bodies(&self) -> (u32, u32) {
+        (self.body_a, self.body_b)
+    }
+    #[inline]
+    fn solve(&mut self, a: &mut SolverBody, b: &mut SolverBody) {
+        DamperRow::solve(self, a, b)
+    }
+}
+
+impl Row for RodRow {
+    fn bodies(&self) -> (u32, u32) {
+        (self.body_a, self.body_b)
+    }
+    #[inline]
+    fn solve(&mut self, a: &mut SolverBody, b: &mut SolverBody) {
+        RodRow::solve(self, a, b)
+    }
+}
+
+impl Row for ContactPoint {
+    fn bodies(&self) -> (u32, u32) {
+        (self.body_a.0, self.body_b.0)
+    }
+    #[inline]
+    fn solve(&mut self, a: &mut SolverBody, b: &mut SolverBody) {
+        ContactPoint::solve(self, a, b)
+    }
+}
