@@ -21,15 +21,7 @@ pub(super) fn sweep(
     out: &Path,
 ) -> anyhow::Result<Vec<crate::sweep::SweepRow>> {
     use crate::sweep;
-    match peer {
-        None => {}
-        Some("rapier") if cfg!(feature = "rapier") => {}
-        Some("rapier") => anyhow::bail!(
-            "--peer rapier: this rodlab was built without the Rapier peer; run \
-             `cargo run --release --features rapier -- sweep ...`"
-        ),
-        Some(other) => anyhow::bail!("--peer {other}: unknown peer engine (known: rapier)"),
-    }
+    check_peer(peer)?;
     let scene = Scene::load(path)?;
     let name = scene.name();
     let all = sweep::combinations(&scene.def, config);
@@ -80,6 +72,38 @@ pub(super) fn sweep(
         )?);
     }
     progress.finish();
+    print_rows(&rows);
+    write_outputs(
+        &name,
+        &rows,
+        &machine,
+        &format!("{name}_sweep{}", shard.suffix()),
+        out,
+    )?;
+    if shard.index == 1 {
+        feature_costs(&scene, out)?;
+    } else {
+        println!("  (the feature costs are measured by shard 1)");
+    }
+    Ok(rows)
+}
+
+/// Refuses a peer engine this build cannot run.
+fn check_peer(peer: Option<&str>) -> anyhow::Result<()> {
+    match peer {
+        None => {}
+        Some("rapier") if cfg!(feature = "rapier") => {}
+        Some("rapier") => anyhow::bail!(
+            "--peer rapier: this rodlab was built without the Rapier peer; run \
+             `cargo run --release --features rapier -- sweep ...`"
+        ),
+        Some(other) => anyhow::bail!("--peer {other}: unknown peer engine (known: rapier)"),
+    }
+    Ok(())
+}
+
+/// The sweep's table on stdout, a line per run.
+fn print_rows(rows: &[crate::sweep::SweepRow]) {
     println!(
         "  {:<36} {:>8} {:>4} {:>5} {:>10} {:>12} {:>12} {:>10} {:>10}",
         "method",
@@ -92,7 +116,7 @@ pub(super) fn sweep(
         "mean rad",
         "overlap cm"
     );
-    for r in &rows {
+    for r in rows {
         match &r.failed {
             None => println!(
                 "  {:<36} {:>8.4} {:>4} {:>5} {:>10.1} {:>12.4} {:>12.4} {:>10.5} {:>10.2}",
@@ -112,32 +136,36 @@ pub(super) fn sweep(
             ),
         }
     }
+}
+
+/// `<out>/<stem>.csv`, `.svg`, `.png` and `.rrd` of the sweep's rows.
+fn write_outputs(
+    name: &str,
+    rows: &[crate::sweep::SweepRow],
+    machine: &str,
+    stem: &str,
+    out: &Path,
+) -> anyhow::Result<()> {
     std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
-    let stem = format!("{name}_sweep{}", shard.suffix());
     let csv = out.join(format!("{stem}.csv"));
-    std::fs::write(&csv, sweep::to_csv(&rows))
+    std::fs::write(&csv, crate::sweep::to_csv(rows))
         .with_context(|| format!("cannot write {}", csv.display()))?;
     let svg = out.join(format!("{stem}.svg"));
-    let chart = sweep::chart(&name, &rows, &machine);
+    let chart = crate::sweep::chart(name, rows, machine);
     std::fs::write(&svg, chart.to_svg())
         .with_context(|| format!("cannot write {}", svg.display()))?;
     let png = out.join(format!("{stem}.png"));
     let png_bytes = chart.to_png()?;
     std::fs::write(&png, &png_bytes).with_context(|| format!("cannot write {}", png.display()))?;
     let rrd = out.join(format!("{stem}.rrd"));
-    record::save_sweep(&rrd, &name, &rows, &machine, &png_bytes)?;
+    record::save_sweep(&rrd, name, rows, machine, &png_bytes)?;
     println!(
         "  -> {}, {} (and .png), {}",
         csv.display(),
         svg.display(),
         rrd.display()
     );
-    if shard.index == 1 {
-        feature_costs(&scene, out)?;
-    } else {
-        println!("  (the feature costs are measured by shard 1)");
-    }
-    Ok(rows)
+    Ok(())
 }
 
 /// The peer's rows: the scene with chain3 spines (Rapier has no rod), per time step and

@@ -2,9 +2,9 @@
 //! ragdolls.
 
 use super::locate::Seg;
-use super::{BodyDef, KindDef, Scene, SceneError, ShapeKind};
-use crate::body::{Body, BodyKind};
-use crate::constraint::{AngularLimit, BallSocket, Constraint, Rod};
+use super::{BodyDef, JointDef, KindDef, RagdollDef, Scene, SceneDef, SceneError, ShapeKind};
+use crate::body::{Body, BodyId, BodyKind};
+use crate::constraint::{AngularLimit, BallSocket, Constraint, JointFlavour, Rod};
 use crate::lab::Lab;
 use crate::math::{quat_from_degrees, Iso, Quat, Vec3};
 use crate::ragdoll::{HumanoidSpec, RodParams};
@@ -16,59 +16,9 @@ impl Scene {
     /// Builds the lab (world and ragdolls) this scene describes.
     pub fn build(&self) -> Result<Lab, SceneError> {
         let d = &self.def;
-        let mut lab = Lab::new(World::new(Settings {
-            gravity: Vec3::from(d.gravity),
-            dt: d.dt,
-            iterations: d.iterations,
-            substeps: d.substeps,
-            solver: d.solver,
-            max_linear_speed: d.max_speed,
-            max_angular_speed: d.max_angular_speed,
-            max_separation: d.max_separation,
-            max_penetration: d.max_penetration,
-            contacts: d.contacts,
-            contact_margin: d.contact_margin,
-            contact_push_speed: d.contact_push_speed,
-            contact_warm_start: d.contact_warm_start,
-            contact_hertz: d.contact_hertz,
-            contact_damping_ratio: d.contact_damping_ratio,
-            contact_stacking: d.contact_stacking,
-            sleep: d.sleep,
-            linear_damping: d.damping[0],
-            angular_damping: d.damping[1],
-            joint_damping: d.joint_damping,
-        }));
+        let mut lab = Lab::new(World::new(settings(d)));
         for (i, r) in d.ragdoll.iter().enumerate() {
-            let spec = HumanoidSpec {
-                name: r.name.clone(),
-                spine: r.spine,
-                joint_flavour: r.joint_flavour.unwrap_or(d.joint_flavour),
-                root: Iso::new(Vec3::from(r.position), quat_from_degrees(r.rotation)),
-                joint_rotations: r
-                    .pose
-                    .iter()
-                    .map(|(k, v)| (k.clone(), quat_from_degrees(*v)))
-                    .collect(),
-                spine_spring: r.spine_spring,
-                limb_spring: r.limb_spring,
-                fixed: r.fixed.clone(),
-                forces: r
-                    .forces
-                    .iter()
-                    .map(|(k, v)| (k.clone(), Vec3::from(*v)))
-                    .collect(),
-                rod: {
-                    let default = RodParams::default();
-                    RodParams {
-                        alpha_bend: r.alpha_b.unwrap_or(default.alpha_bend),
-                        alpha_twist: r.alpha_t.unwrap_or(default.alpha_twist),
-                        bend_stiffness: r.stiffness().bend(),
-                        twist_stiffness: r.stiffness().twist(),
-                        twist_mode: r.twist.unwrap_or(default.twist_mode),
-                        length_correction: r.rod_length.unwrap_or(default.length_correction),
-                    }
-                },
-            };
+            let spec = humanoid_spec(d, r);
             let path = [
                 Seg::Key("ragdoll".into()),
                 Seg::Index(i),
@@ -82,29 +32,13 @@ impl Scene {
             world.add_body(build_body(b));
         }
         for j in &d.joint {
-            let a = world.find_body(&j.a).expect("checked");
-            let b = world.find_body(&j.b).expect("checked");
-            let frame = Quat::from_rotation_arc(Vec3::X, Vec3::from(j.axis).normalize());
-            let mut joint = BallSocket::at_world_anchor(
-                &j.name,
+            let joint = build_joint(
+                j,
                 &world.bodies,
-                a,
-                b,
-                Vec3::from(j.anchor),
-                frame,
-            )
-            .with_flavour(j.flavour.unwrap_or(d.joint_flavour));
-            if let Some([lo, hi]) = j.hinge {
-                joint = joint.with_limit(AngularLimit::hinge(lo.to_radians(), hi.to_radians()));
-            } else if j.swing.is_some() || j.twist.is_some() {
-                let swing = j.swing.unwrap_or(180.0).to_radians();
-                let [lo, hi] = j.twist.unwrap_or([-180.0, 180.0]);
-                joint =
-                    joint.with_limit(AngularLimit::cone(swing, lo.to_radians(), hi.to_radians()));
-            }
-            if let Some(relaxation) = j.spring {
-                joint = joint.with_spring(&world.bodies, relaxation);
-            }
+                world.find_body(&j.a).expect("checked"),
+                world.find_body(&j.b).expect("checked"),
+                d.joint_flavour,
+            );
             world.constraints.push(Constraint::BallSocket(joint));
         }
         for (i, r) in d.rod.iter().enumerate() {
@@ -126,6 +60,91 @@ impl Scene {
         }
         Ok(lab)
     }
+}
+
+/// The world's settings this scene asks for.
+fn settings(d: &SceneDef) -> Settings {
+    Settings {
+        gravity: Vec3::from(d.gravity),
+        dt: d.dt,
+        iterations: d.iterations,
+        substeps: d.substeps,
+        solver: d.solver,
+        max_linear_speed: d.max_speed,
+        max_angular_speed: d.max_angular_speed,
+        max_separation: d.max_separation,
+        max_penetration: d.max_penetration,
+        contacts: d.contacts,
+        contact_margin: d.contact_margin,
+        contact_push_speed: d.contact_push_speed,
+        contact_warm_start: d.contact_warm_start,
+        contact_hertz: d.contact_hertz,
+        contact_damping_ratio: d.contact_damping_ratio,
+        contact_stacking: d.contact_stacking,
+        sleep: d.sleep,
+        linear_damping: d.damping[0],
+        angular_damping: d.damping[1],
+        joint_damping: d.joint_damping,
+    }
+}
+
+/// The humanoid a `[[ragdoll]]` describes (its alphas or stiffness, pose, forces, springs).
+fn humanoid_spec(d: &SceneDef, r: &RagdollDef) -> HumanoidSpec {
+    HumanoidSpec {
+        name: r.name.clone(),
+        spine: r.spine,
+        joint_flavour: r.joint_flavour.unwrap_or(d.joint_flavour),
+        root: Iso::new(Vec3::from(r.position), quat_from_degrees(r.rotation)),
+        joint_rotations: r
+            .pose
+            .iter()
+            .map(|(k, v)| (k.clone(), quat_from_degrees(*v)))
+            .collect(),
+        spine_spring: r.spine_spring,
+        limb_spring: r.limb_spring,
+        fixed: r.fixed.clone(),
+        forces: r
+            .forces
+            .iter()
+            .map(|(k, v)| (k.clone(), Vec3::from(*v)))
+            .collect(),
+        rod: {
+            let default = RodParams::default();
+            RodParams {
+                alpha_bend: r.alpha_b.unwrap_or(default.alpha_bend),
+                alpha_twist: r.alpha_t.unwrap_or(default.alpha_twist),
+                bend_stiffness: r.stiffness().bend(),
+                twist_stiffness: r.stiffness().twist(),
+                twist_mode: r.twist.unwrap_or(default.twist_mode),
+                length_correction: r.rod_length.unwrap_or(default.length_correction),
+            }
+        },
+    }
+}
+
+/// The ball-and-socket joint a `[[joint]]` describes between bodies `a` and `b`, with its
+/// limits and spring.
+fn build_joint(
+    j: &JointDef,
+    bodies: &[Body],
+    a: BodyId,
+    b: BodyId,
+    default_flavour: JointFlavour,
+) -> BallSocket {
+    let frame = Quat::from_rotation_arc(Vec3::X, Vec3::from(j.axis).normalize());
+    let mut joint = BallSocket::at_world_anchor(&j.name, bodies, a, b, Vec3::from(j.anchor), frame)
+        .with_flavour(j.flavour.unwrap_or(default_flavour));
+    if let Some([lo, hi]) = j.hinge {
+        joint = joint.with_limit(AngularLimit::hinge(lo.to_radians(), hi.to_radians()));
+    } else if j.swing.is_some() || j.twist.is_some() {
+        let swing = j.swing.unwrap_or(180.0).to_radians();
+        let [lo, hi] = j.twist.unwrap_or([-180.0, 180.0]);
+        joint = joint.with_limit(AngularLimit::cone(swing, lo.to_radians(), hi.to_radians()));
+    }
+    if let Some(relaxation) = j.spring {
+        joint = joint.with_spring(bodies, relaxation);
+    }
+    joint
 }
 
 fn build_body(b: &BodyDef) -> Body {
