@@ -45,8 +45,8 @@ impl<F: FnMut(&Lab, &FrameMetrics)> Observer for F {
 pub struct RagdollReport {
     /// The ragdoll's name.
     pub name: String,
-    /// The ragdoll's spine kind.
-    pub spine: SpineKind,
+    /// The ragdoll's spine kind; `None` for a plain group.
+    pub spine: Option<SpineKind>,
     /// Residual statistics over the frames stepped (the start, frame 0, excluded).
     pub summary: Summary,
 }

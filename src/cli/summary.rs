@@ -52,7 +52,7 @@ pub fn print_summary(name: &str, scene: &Scene, report: &RunReport) {
         report!(
             "  {:<14} {:<7} {:>14.4} {:>13.4} {:>15.5} {:>14.5} {:>18.4}",
             r.name,
-            r.spine.to_string(),
+            r.spine.map_or("group".to_string(), |s| s.to_string()),
             r.summary.mean_dislocation_cm(),
             r.summary.dislocation_max,
             r.summary.mean_angular_rad(),

@@ -52,7 +52,7 @@ pub fn build_humanoid(world: &mut World, spec: &HumanoidSpec) -> Result<Ragdoll,
     let rod = (spine == SpineKind::Rod).then_some(first_constraint);
     Ok(Ragdoll {
         name: spec.name.clone(),
-        spine,
+        spine: Some(spine),
         bodies: first_body..world.bodies.len(),
         constraints: first_constraint..world.constraints.len(),
         skeleton: Some(Skeleton::attach(world, &spine_bodies, rod)),

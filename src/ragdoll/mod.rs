@@ -135,8 +135,8 @@ impl HumanoidSpec {
 pub struct Ragdoll {
     /// Ragdoll name, the prefix of its bodies' and constraints' names.
     pub name: String,
-    /// Its spine.
-    pub spine: SpineKind,
+    /// Its spine; `None` for a plain group (the loose joints and rods of a scene, a chain).
+    pub spine: Option<SpineKind>,
     /// Indices of its bodies in the world's bodies.
     pub bodies: Range<usize>,
     /// Indices of its constraints in the world's constraints.
@@ -148,6 +148,28 @@ pub struct Ragdoll {
 }
 
 impl Ragdoll {
+    /// A plain group of bodies and the constraints between them, with no skeleton: measured,
+    /// printed and recorded like a humanoid, its pose deviation taken from where the bodies
+    /// stand now.
+    pub fn group(
+        name: &str,
+        bodies: Range<usize>,
+        constraints: Range<usize>,
+        world: &World,
+    ) -> Ragdoll {
+        Ragdoll {
+            name: name.to_string(),
+            spine: None,
+            target_positions: world.bodies[bodies.clone()]
+                .iter()
+                .map(|b| b.position)
+                .collect(),
+            bodies,
+            constraints,
+            skeleton: None,
+        }
+    }
+
     /// Ids of its bodies.
     pub fn body_ids(&self) -> impl Iterator<Item = BodyId> + '_ {
         self.bodies.clone().map(|i| BodyId(i as u32))

@@ -1,9 +1,10 @@
 //! Recording to Rerun: the only module that uses `rerun`.
 //!
 //! Entity paths (documented in docs/recording.md):
-//! - `world/<group>/capsules|spheres|boxes`: one batched archetype per group (a ragdoll, or
-//!   `props` for free bodies); shapes logged once as static data, per-instance translations and
-//!   quaternions every frame;
+//! - `world/<group>/capsules|spheres|boxes`: one batched archetype per group (a ragdoll;
+//!   `loose` for a scene's own bodies when it has joints or rods, measured like a ragdoll;
+//!   else `props` for free bodies); shapes logged once as static data, per-instance
+//!   translations and quaternions every frame;
 //! - `world/<group>/joints`: both world anchors of every joint (Points3D, 2 per joint);
 //! - `world/<ragdoll>/rod/<rod>/centerline` (LineStrips3D, gamma(s) sampled, ends at the body
 //!   centres) and `.../frames` (Arrows3D: material normal and binormal along the arc);

@@ -3,12 +3,14 @@
 use crate::ragdoll::SpineKind;
 use crate::skeleton::BoneMethod;
 
-/// A spine's colour (Fig. 8: three-joint spine blue, rod red; single joint green).
-pub(super) fn spine_color(spine: SpineKind) -> rerun::Color {
+/// A spine's colour (Fig. 8: three-joint spine blue, rod red; single joint green); a plain
+/// group of loose joints is orange.
+pub(super) fn spine_color(spine: Option<SpineKind>) -> rerun::Color {
     match spine {
-        SpineKind::Chain3 => rerun::Color::from_rgb(60, 110, 220),
-        SpineKind::Rod => rerun::Color::from_rgb(220, 60, 50),
-        SpineKind::Single => rerun::Color::from_rgb(60, 170, 90),
+        Some(SpineKind::Chain3) => rerun::Color::from_rgb(60, 110, 220),
+        Some(SpineKind::Rod) => rerun::Color::from_rgb(220, 60, 50),
+        Some(SpineKind::Single) => rerun::Color::from_rgb(60, 170, 90),
+        None => rerun::Color::from_rgb(230, 150, 40),
     }
 }
 

@@ -7,10 +7,14 @@ use crate::body::{Body, BodyId, BodyKind};
 use crate::constraint::{AngularLimit, BallSocket, Constraint, JointFlavour, Rod};
 use crate::lab::Lab;
 use crate::math::{quat_from_degrees, Iso, Quat, Vec3};
-use crate::ragdoll::{HumanoidSpec, RodParams};
+use crate::ragdoll::{HumanoidSpec, Ragdoll, RodParams};
 use crate::shape::Axis;
 use crate::shape::Shape;
 use crate::world::{Settings, World};
+
+/// The name of the group that holds a scene's `[[body]]`s with its `[[joint]]`s and `[[rod]]`s
+/// (bodies outside a ragdoll), so those constraints are measured, printed and recorded.
+pub const LOOSE_GROUP: &str = "loose";
 
 impl Scene {
     /// Builds the lab (world and ragdolls) this scene describes.
@@ -27,6 +31,8 @@ impl Scene {
             lab.add_humanoid(&spec)
                 .map_err(|m| self.error_at(&path, m))?;
         }
+        let first_body = lab.world.bodies.len();
+        let first_constraint = lab.world.constraints.len();
         let world = &mut lab.world;
         for b in &d.body {
             world.add_body(build_body(b));
@@ -57,6 +63,16 @@ impl Scene {
             rod.twist_mode = r.twist;
             rod.length_correction = r.length_correction;
             world.constraints.push(Constraint::Rod(rod));
+        }
+        // the scene's own joints and rods form one group, measured like a ragdoll
+        if !d.joint.is_empty() || !d.rod.is_empty() {
+            let group = Ragdoll::group(
+                LOOSE_GROUP,
+                first_body..lab.world.bodies.len(),
+                first_constraint..lab.world.constraints.len(),
+                &lab.world,
+            );
+            lab.ragdolls.push(group);
         }
         Ok(lab)
     }

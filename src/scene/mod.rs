@@ -24,6 +24,7 @@ mod locate;
 mod overrides;
 mod variant;
 
+pub use build::LOOSE_GROUP;
 pub use check::MAX_CONTACT_STACKING;
 pub use def::*;
 pub use overrides::Overrides;

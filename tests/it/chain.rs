@@ -5,7 +5,7 @@ use rodlab::body::{Body, BodyKind};
 use rodlab::constraint::{BallSocket, JointFlavour};
 use rodlab::math::{Quat, Vec3};
 use rodlab::metrics::ragdoll_residual;
-use rodlab::ragdoll::{Ragdoll, SpineKind};
+use rodlab::ragdoll::Ragdoll;
 use rodlab::shape::{Axis, Shape};
 use rodlab::world::{Settings, World};
 
@@ -58,15 +58,13 @@ fn hanging_chain(flavour: JointFlavour, iterations: u32) -> (World, Ragdoll) {
         );
         previous = link;
     }
-    // Group everything as one "ragdoll" to reuse the residual measure.
-    let group = Ragdoll {
-        name: "chain".into(),
-        spine: SpineKind::Chain3,
-        bodies: 0..world.bodies.len(),
-        constraints: 0..world.constraints.len(),
-        skeleton: None,
-        target_positions: Vec::new(),
-    };
+    // One plain group over everything, for the residual measure.
+    let group = Ragdoll::group(
+        "chain",
+        0..world.bodies.len(),
+        0..world.constraints.len(),
+        &world,
+    );
     (world, group)
 }
 
@@ -176,4 +174,61 @@ fn twist_limit_clamps_a_fast_spin_to_the_bound_it_crossed() {
             "step {step}: spin {spin} rad/s"
         );
     }
+}
+
+/// A scene of loose joints (no ragdoll): a light link holding a heavy one from a fixed anchor.
+const LOOSE_SCENE: &str = r#"
+frames = 120
+[[body]]
+name = "anchor"
+kind = "fixed"
+shape = "sphere"
+radius = 0.05
+position = [0.0, 2.0, 0.0]
+[[body]]
+name = "link0"
+shape = "sphere"
+radius = 0.1
+mass = 1.0
+position = [0.5, 2.0, 0.0]
+[[body]]
+name = "link1"
+shape = "sphere"
+radius = 0.1
+mass = 10.0
+position = [1.0, 2.0, 0.0]
+[[joint]]
+name = "j0"
+a = "anchor"
+b = "link0"
+anchor = [0.0, 2.0, 0.0]
+[[joint]]
+name = "j1"
+a = "link0"
+b = "link1"
+anchor = [0.5, 2.0, 0.0]
+"#;
+
+/// Mean dislocation (cm) of the loose group over 120 frames of the swinging pair.
+fn loose_dislocation_cm(iterations: u32) -> f64 {
+    let mut scene = rodlab::scene::Scene::parse("loose.toml", LOOSE_SCENE).unwrap();
+    scene.def.iterations = iterations;
+    let mut lab = scene.build().unwrap();
+    assert_eq!(lab.ragdolls.len(), 1, "the scene's joints form one group");
+    let group = &lab.ragdolls[0];
+    assert_eq!(group.name, rodlab::scene::LOOSE_GROUP);
+    assert_eq!((group.bodies.len(), group.constraints.len()), (3, 2));
+    assert!(group.spine.is_none());
+    let report = rodlab::sim::run(&mut lab, 120, &mut rodlab::sim::NoObserver).unwrap();
+    assert_eq!(report.ragdolls.len(), 1, "the group is reported like a ragdoll");
+    report.ragdolls[0].summary.mean_dislocation_cm()
+}
+
+#[test]
+fn a_scene_of_loose_joints_reports_its_residual_and_it_falls_with_iterations() {
+    let (few, many) = (loose_dislocation_cm(2), loose_dislocation_cm(40));
+    println!("loose pair, mean dislocation: 2 iterations {few:.3} cm, 40 iterations {many:.4} cm");
+    // the 10:1 mass ratio leaves the light link's joints apart at few iterations
+    assert!(few > 0.1, "2 iterations: {few} cm");
+    assert!(many < 0.5 * few, "40 iterations: {many} cm against {few} cm at 2");
 }

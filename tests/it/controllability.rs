@@ -20,7 +20,7 @@ fn mean_deviation_cm(spine: &str, iterations: u32) -> f64 {
     let r = report
         .ragdolls
         .iter()
-        .find(|r| r.spine.to_string() == spine)
+        .find(|r| r.spine.is_some_and(|s| s.to_string() == spine))
         .unwrap();
     r.summary.mean_pose_deviation_cm()
 }

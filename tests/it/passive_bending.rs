@@ -69,7 +69,7 @@ fn rod_spine_leaves_less_dislocation_than_chain3() {
         report
             .ragdolls
             .iter()
-            .find(|r| r.spine.to_string() == spine)
+            .find(|r| r.spine.is_some_and(|s| s.to_string() == spine))
             .unwrap()
             .summary
     };

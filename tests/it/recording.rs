@@ -143,7 +143,7 @@ fn explosion_names_body_constraint_and_frame_and_keeps_the_recording() {
     );
     let chunks = decode(&path);
     assert_eq!(
-        frames_with(&chunks, "world/props/spheres", "centers"),
+        frames_with(&chunks, "world/loose/spheres", "centers"),
         BTreeSet::from([0])
     );
     assert!(chunks

@@ -50,7 +50,10 @@ fn line_of(needle: &str) -> usize {
 fn the_good_scene_loads() {
     let scene = Scene::parse("scenes/x.toml", GOOD).unwrap();
     let lab = scene.build().unwrap();
-    assert_eq!(lab.ragdolls.len(), 1);
+    // the ragdoll, and the group of the scene's own bodies with its joints and rods
+    let names: Vec<&str> = lab.ragdolls.iter().map(|r| r.name.as_str()).collect();
+    assert_eq!(names.len(), 2, "{names:?}");
+    assert_eq!(names[1], rodlab::scene::LOOSE_GROUP);
 }
 
 #[test]

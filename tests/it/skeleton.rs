@@ -14,7 +14,7 @@ fn errors(lab: &Lab, spine: &str) -> Vec<(BoneMethod, BoneError)> {
     let ragdoll = lab
         .ragdolls
         .iter()
-        .find(|r| r.spine.to_string() == spine)
+        .find(|r| r.spine.is_some_and(|s| s.to_string() == spine))
         .unwrap();
     let skeleton = ragdoll.skeleton.as_ref().unwrap();
     skeleton

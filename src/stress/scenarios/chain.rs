@@ -6,10 +6,9 @@ use crate::body::{Body, BodyKind};
 use crate::constraint::{BallSocket, Constraint, Rod};
 use crate::lab::Lab;
 use crate::math::{Quat, Vec3};
-use crate::ragdoll::{Ragdoll, SpineKind};
+use crate::ragdoll::Ragdoll;
 use crate::shape::{Axis, Shape};
 use crate::stress::Method;
-use crate::world::World;
 
 /// Builds the chain scene; returns the potential energy its stretch hides (J).
 pub(super) fn chain(
@@ -83,19 +82,12 @@ pub(super) fn chain(
         hidden_energy += body.mass * gravity.dot(shift);
         body.set_pose(body.position + shift, body.orientation);
     }
-    let group = group_as_ragdoll(world);
+    let group = Ragdoll::group(
+        "chain",
+        0..world.bodies.len(),
+        0..world.constraints.len(),
+        world,
+    );
     lab.ragdolls.push(group);
     hidden_energy.max(0.0)
-}
-
-/// Every body and constraint grouped as one ragdoll, so the residual measures cover them.
-fn group_as_ragdoll(world: &World) -> Ragdoll {
-    Ragdoll {
-        name: "chain".into(),
-        spine: SpineKind::Chain3,
-        bodies: 0..world.bodies.len(),
-        constraints: 0..world.constraints.len(),
-        skeleton: None,
-        target_positions: world.bodies.iter().map(|b| b.position).collect(),
-    }
 }
