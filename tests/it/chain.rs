@@ -220,7 +220,11 @@ fn loose_dislocation_cm(iterations: u32) -> f64 {
     assert_eq!((group.bodies.len(), group.constraints.len()), (3, 2));
     assert!(group.spine.is_none());
     let report = rodlab::sim::run(&mut lab, 120, &mut rodlab::sim::NoObserver).unwrap();
-    assert_eq!(report.ragdolls.len(), 1, "the group is reported like a ragdoll");
+    assert_eq!(
+        report.ragdolls.len(),
+        1,
+        "the group is reported like a ragdoll"
+    );
     report.ragdolls[0].summary.mean_dislocation_cm()
 }
 
@@ -230,5 +234,8 @@ fn a_scene_of_loose_joints_reports_its_residual_and_it_falls_with_iterations() {
     println!("loose pair, mean dislocation: 2 iterations {few:.3} cm, 40 iterations {many:.4} cm");
     // the 10:1 mass ratio leaves the light link's joints apart at few iterations
     assert!(few > 0.1, "2 iterations: {few} cm");
-    assert!(many < 0.5 * few, "40 iterations: {many} cm against {few} cm at 2");
+    assert!(
+        many < 0.5 * few,
+        "40 iterations: {many} cm against {few} cm at 2"
+    );
 }

@@ -300,6 +300,49 @@ impl BroadPhase {
     /// Rebuilds the grid from the fat boxes and finds every fat pair.
     fn rebuild(&mut self) {
         self.rebuilds += 1;
+        self.enter_cells();
+        let inverse_cell = self.inverse_cell;
+        let threads = rayon::current_num_threads();
+        let chunks = if threads > 1 && self.entries.len() >= PARALLEL_SORT {
+            4 * threads
+        } else {
+            1
+        };
+        self.split_chunks(chunks);
+        let proxies = &self.proxies;
+        let entries = &self.entries;
+        let bounds = &self.bounds;
+        if chunks > 1 {
+            use rayon::prelude::*;
+            self.chunk_pairs[..chunks]
+                .par_iter_mut()
+                .enumerate()
+                .for_each(|(c, out)| {
+                    cell_pairs(
+                        &entries[bounds[c]..bounds[c + 1]],
+                        proxies,
+                        inverse_cell,
+                        out,
+                    )
+                });
+        } else {
+            cell_pairs(entries, proxies, inverse_cell, &mut self.chunk_pairs[0]);
+        }
+        self.fat_pairs.clear();
+        for out in &self.chunk_pairs[..chunks] {
+            self.fat_pairs.extend_from_slice(&out.pairs);
+        }
+        if self.fat_pairs.len() >= PARALLEL_SORT && threads > 1 {
+            use rayon::slice::ParallelSliceMut;
+            self.fat_pairs.par_sort_unstable();
+        } else {
+            self.fat_pairs.sort_unstable();
+        }
+    }
+
+    /// Fresh fat boxes, the cell edge from the movable bodies' sizes, and every small box
+    /// entered in each cell it covers (large ones listed apart), sorted by cell.
+    fn enter_cells(&mut self) {
         self.dirty.clear();
         let mut extent_sum = 0.0;
         let mut movable = 0;
@@ -341,56 +384,10 @@ impl BroadPhase {
         } else {
             self.entries.sort_unstable();
         }
+    }
 
-        let proxies = &self.proxies;
-        // The cells' pairs. Large worlds split the entries into chunks at cell boundaries,
-        // each into its own reused buffer.
-        let cells_pairs = |entries: &[(u64, u32)], out: &mut ChunkPairs| {
-            out.pairs.clear();
-            let mut start = 0;
-            while start < entries.len() {
-                let cell_key = entries[start].0;
-                let mut end = start + 1;
-                while end < entries.len() && entries[end].0 == cell_key {
-                    end += 1;
-                }
-                // the cell's boxes by their lower x, swept: a box meets only those that start
-                // before it ends (a pile puts up to 80 boxes in a cell; testing all pairs was
-                // most of the broad phase)
-                let group = &mut out.group;
-                group.clear();
-                group.extend(entries[start..end].iter().map(|&(_, index)| {
-                    let p = &proxies[index as usize];
-                    CellBox {
-                        index,
-                        flags: p.flags,
-                        fat: p.fat,
-                    }
-                }));
-                group.sort_unstable_by(|a, b| a.fat.min[0].total_cmp(&b.fat.min[0]));
-                for (i, a) in group.iter().enumerate() {
-                    for b in &group[i + 1..] {
-                        if b.fat.min[0] > a.fat.max[0] {
-                            break;
-                        }
-                        if !a.flags.may_touch(b.flags) || !a.fat.overlaps(&b.fat) {
-                            continue;
-                        }
-                        // the overlap's lower corner decides the one cell that reports the pair
-                        if corner_cell(&a.fat, &b.fat, inverse_cell) == cell_key {
-                            out.pairs.push((a.index.min(b.index), a.index.max(b.index)));
-                        }
-                    }
-                }
-                start = end;
-            }
-        };
-        let threads = rayon::current_num_threads();
-        let chunks = if threads > 1 && self.entries.len() >= PARALLEL_SORT {
-            4 * threads
-        } else {
-            1
-        };
+    /// Splits the sorted entries into `chunks` runs at cell boundaries, a pair buffer each.
+    fn split_chunks(&mut self, chunks: usize) {
         // chunk boundaries moved forward to the next cell start
         self.bounds.clear();
         self.bounds.push(0);
@@ -405,27 +402,6 @@ impl BroadPhase {
         self.bounds.push(self.entries.len());
         if self.chunk_pairs.len() < chunks {
             self.chunk_pairs.resize_with(chunks, ChunkPairs::default);
-        }
-        let entries = &self.entries;
-        let bounds = &self.bounds;
-        if chunks > 1 {
-            use rayon::prelude::*;
-            self.chunk_pairs[..chunks]
-                .par_iter_mut()
-                .enumerate()
-                .for_each(|(c, out)| cells_pairs(&entries[bounds[c]..bounds[c + 1]], out));
-        } else {
-            cells_pairs(entries, &mut self.chunk_pairs[0]);
-        }
-        self.fat_pairs.clear();
-        for out in &self.chunk_pairs[..chunks] {
-            self.fat_pairs.extend_from_slice(&out.pairs);
-        }
-        if self.fat_pairs.len() >= PARALLEL_SORT && threads > 1 {
-            use rayon::slice::ParallelSliceMut;
-            self.fat_pairs.par_sort_unstable();
-        } else {
-            self.fat_pairs.sort_unstable();
         }
     }
 
@@ -477,5 +453,48 @@ impl BroadPhase {
                 }
             }
         }
+    }
+}
+
+/// The pairs of one run of `entries` (whole cells): each cell's boxes swept along x, each
+/// overlapping pair reported by the cell holding its overlap's lower corner.
+fn cell_pairs(entries: &[(u64, u32)], proxies: &[Proxy], inverse_cell: f32, out: &mut ChunkPairs) {
+    out.pairs.clear();
+    let mut start = 0;
+    while start < entries.len() {
+        let cell_key = entries[start].0;
+        let mut end = start + 1;
+        while end < entries.len() && entries[end].0 == cell_key {
+            end += 1;
+        }
+        // the cell's boxes by their lower x, swept: a box meets only those that start
+        // before it ends (a pile puts up to 80 boxes in a cell; testing all pairs was
+        // most of the broad phase)
+        let group = &mut out.group;
+        group.clear();
+        group.extend(entries[start..end].iter().map(|&(_, index)| {
+            let p = &proxies[index as usize];
+            CellBox {
+                index,
+                flags: p.flags,
+                fat: p.fat,
+            }
+        }));
+        group.sort_unstable_by(|a, b| a.fat.min[0].total_cmp(&b.fat.min[0]));
+        for (i, a) in group.iter().enumerate() {
+            for b in &group[i + 1..] {
+                if b.fat.min[0] > a.fat.max[0] {
+                    break;
+                }
+                if !a.flags.may_touch(b.flags) || !a.fat.overlaps(&b.fat) {
+                    continue;
+                }
+                // the overlap's lower corner decides the one cell that reports the pair
+                if corner_cell(&a.fat, &b.fat, inverse_cell) == cell_key {
+                    out.pairs.push((a.index.min(b.index), a.index.max(b.index)));
+                }
+            }
+        }
+        start = end;
     }
 }
