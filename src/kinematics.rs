@@ -54,11 +54,16 @@ pub fn equal_weights(n: usize) -> Vec<f32> {
     vec![1.0 / n as f32; n]
 }
 
+/// Bend `i` of `samples` (at least 2) spread evenly over [-`max_bend`, `max_bend`] (rad).
+pub fn bend_at(max_bend: f32, i: usize, samples: usize) -> f32 {
+    -max_bend + 2.0 * max_bend * i as f32 / (samples - 1) as f32
+}
+
 /// Largest distance (m) between the chain's end and the rod's end over bends in [-max, max].
 pub fn max_end_gap(length: f32, weights: &[f32], max_bend: f32, samples: usize) -> f32 {
     (0..samples)
         .map(|i| {
-            let psi = -max_bend + 2.0 * max_bend * i as f32 / (samples - 1) as f32;
+            let psi = bend_at(max_bend, i, samples);
             let chain_end = *chain_points(length, psi, weights).last().unwrap();
             let rod_end = *rod_points(length, psi, 2).last().unwrap();
             (chain_end - rod_end).length()
@@ -89,9 +94,7 @@ impl Comparison {
         let total: f32 = unequal.iter().sum();
         let unequal: Vec<f32> = unequal.iter().map(|w| w / total).collect();
         let equal = equal_weights(joints);
-        let bends: Vec<f32> = (0..bends)
-            .map(|i| -max_bend + 2.0 * max_bend * i as f32 / (bends - 1) as f32)
-            .collect();
+        let bends: Vec<f32> = (0..bends).map(|i| bend_at(max_bend, i, bends)).collect();
         let along =
             |shape: &dyn Fn(f32) -> Vec<Vec3>| bends.iter().map(|&psi| shape(psi)).collect();
         Comparison {

@@ -2,7 +2,7 @@
 //! joints bend unequally does not; and the equal chain converges to the rod as joints are added.
 
 use rodlab::constraint::rod::chord_ratio;
-use rodlab::kinematics::{chain_points, equal_weights, max_end_gap, rod_points};
+use rodlab::kinematics::{chain_points, equal_weights, max_end_gap, rod_points, Comparison};
 
 const LENGTH: f32 = 0.385;
 const MAX_BEND: f32 = 150.0 * std::f32::consts::PI / 180.0;
@@ -52,4 +52,24 @@ fn rod_end_obeys_the_chord_formula() {
     let points = chain_points(LENGTH, 1.2, &[0.5, 0.2, 0.3]);
     let length: f32 = points.windows(2).map(|w| (w[1] - w[0]).length()).sum();
     assert!((length - LENGTH).abs() < 1e-5);
+}
+
+/// The comparison the recording draws and the summary prints gives the gaps `max_end_gap`
+/// measures on its own (the unequal shares normalised, the rod sampled finely).
+#[test]
+fn the_recorded_comparison_gives_the_measured_gaps() {
+    let comparison = Comparison::new(LENGTH, 3, &[6.0, 3.0, 1.0], MAX_BEND, 121);
+    let (equal, unequal) = comparison.largest_gaps();
+    let expected_equal = max_end_gap(LENGTH, &equal_weights(3), MAX_BEND, 121);
+    let expected_unequal = max_end_gap(LENGTH, &[0.6, 0.3, 0.1], MAX_BEND, 121);
+    assert!(
+        (equal - expected_equal).abs() < 1e-5,
+        "{equal} vs {expected_equal}"
+    );
+    assert!(
+        (unequal - expected_unequal).abs() < 1e-5,
+        "{unequal} vs {expected_unequal}"
+    );
+    assert_eq!(comparison.bends.len(), 121);
+    assert_eq!(comparison.bends[60], 0.0, "the middle bend is straight");
 }
