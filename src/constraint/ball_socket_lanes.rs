@@ -15,7 +15,9 @@
 //! not normalise (glam's `try_normalize`) falls back to glam's `any_orthonormal_vector`.
 
 use super::{JointFlavour, JointRow};
-use crate::lanes::{body_indices, padded, BodyLanes, Lane, SymM3, MAX_LANES, Q, V3};
+use crate::lanes::{
+    body_indices, not, padded, relative_rotation, BodyLanes, Lane, SymM3, MAX_LANES, Q, V3,
+};
 use crate::math::Quat;
 use crate::solver_body::SharedBodies;
 use std::f32::consts::{PI, TAU};
@@ -201,12 +203,13 @@ impl<L: Lane> JointLanes<L> {
         let ra = a.orientation.rotate(self.anchor_a);
         let rb = b.orientation.rotate(self.anchor_b);
         let d = (b.position + rb) - (a.position + ra);
+        let point = Dislocation { ra, rb, d };
         let (impulse, active) = match self.point {
-            PointFlavours::Cheap => point_along_error(a, b, ra, rb, d),
-            PointFlavours::Exact => point_block(a, b, ra, rb, d),
+            PointFlavours::Cheap => point.along_error(a, b),
+            PointFlavours::Exact => point.block(a, b),
             PointFlavours::Mixed { exact } => {
-                let (ic, ac) = point_along_error(a, b, ra, rb, d);
-                let (ie, ae) = point_block(a, b, ra, rb, d);
+                let (ic, ac) = point.along_error(a, b);
+                let (ie, ae) = point.block(a, b);
                 (V3::select(exact, ie, ic), exact.select(ae, ac))
             }
         };
@@ -219,12 +222,6 @@ impl<L: Lane> JointLanes<L> {
 #[inline(always)]
 fn movable<L: Lane>(body: &BodyLanes<L>) -> L {
     body.inverse_mass.gt(L::zero()) | body.inverse_mass.lt(L::zero())
-}
-
-/// Per-lane logical not of a mask.
-#[inline(always)]
-fn not<L: Lane>(mask: L) -> L {
-    mask.select(L::zero(), L::zero().lt(L::splat(1.0)))
 }
 
 /// Wraps an angle in [-2 pi, 2 pi] to [-pi, pi], as [`crate::math::wrap_angle`] does there (every
@@ -245,108 +242,69 @@ fn apply_positional<L: Lane>(body: &mut BodyLanes<L>, impulse: V3<L>, r: V3<L>, 
         body.position,
     );
     let dtheta = body.inverse_inertia.mul_vec(r.cross(impulse));
-    rotate_preview(body, dtheta, mask);
+    body.rotate_preview_where(mask, dtheta);
 }
 
-/// [`SolverBody::apply_angular_impulse`](crate::solver_body::SolverBody) on the lanes of `mask`.
-#[inline(always)]
-fn apply_angular<L: Lane>(body: &mut BodyLanes<L>, l: V3<L>, mask: L) {
-    let dtheta = body.inverse_inertia.mul_vec(l);
-    rotate_preview(body, dtheta, mask);
-}
-
-#[inline(always)]
-fn rotate_preview<L: Lane>(body: &mut BodyLanes<L>, dtheta: V3<L>, mask: L) {
-    let correction = body.rotation_correction + dtheta;
-    let orientation = body.predicted.rotate_by_small(correction);
-    body.rotation_correction = V3::select(mask, correction, body.rotation_correction);
-    body.orientation = Q {
-        x: mask.select(orientation.x, body.orientation.x),
-        y: mask.select(orientation.y, body.orientation.y),
-        z: mask.select(orientation.z, body.orientation.z),
-        w: mask.select(orientation.w, body.orientation.w),
-    };
-}
-
-/// [`super::parts::relative_rotation`] per lane: turns b by `rotation_b` relative to a.
-#[inline(always)]
-fn relative_rotation<L: Lane>(
-    a: &mut BodyLanes<L>,
-    b: &mut BodyLanes<L>,
-    movable_a: L,
-    movable_b: L,
-    rotation_b: V3<L>,
-) {
-    // With n = v / |v| the impulse n |v| / w(n) is v |v|^2 / w(v) (w is quadratic): no square
-    // root, one division; `|v|^2 < 1e-18` is the scalar `|v| < 1e-9`.
-    let angle_squared = rotation_b.length_squared();
-    let big = not(angle_squared.lt(L::splat(1e-18)));
-    let w = a.angular_inverse_mass(rotation_b) + b.angular_inverse_mass(rotation_b);
-    let positive = w.gt(L::zero());
-    let active = big & positive;
-    let l = rotation_b.scale(angle_squared / positive.select(w, L::splat(1.0)));
-    apply_angular(a, -l, active & movable_a);
-    apply_angular(b, l, active & movable_b);
-}
-
-/// [`super::parts::point_along_error`] with relaxation 1: the impulse on a (b gets its
-/// negative) and the mask of lanes that apply it.
-///
-/// The inverse mass along `n = d / |d|` is quadratic in `n`, so `w(d) = |d|^2 w(n)` and the
-/// impulse `n |d| / w(n)` is `d |d|^2 / w(d)`: no square root and one division. It differs from
-/// the scalar code by rounding only; the guards are the same (`|d|^2 < 1e-18` is `|d| < 1e-9`).
-#[inline(always)]
-fn point_along_error<L: Lane>(
-    a: &BodyLanes<L>,
-    b: &BodyLanes<L>,
+/// A joint's dislocation per lane: the anchors' lever arms `ra`, `rb` and the gap `d` from a's
+/// anchor to b's.
+#[derive(Clone, Copy)]
+struct Dislocation<L> {
     ra: V3<L>,
     rb: V3<L>,
     d: V3<L>,
-) -> (V3<L>, L) {
-    let length_squared = d.length_squared();
-    let long = not(length_squared.lt(L::splat(1e-18)));
-    let angular = |body: &BodyLanes<L>, r: V3<L>| body.angular_inverse_mass(r.cross(d));
-    let w = (a.inverse_mass + b.inverse_mass) * length_squared + angular(a, ra) + angular(b, rb);
-    let positive = w.gt(L::zero());
-    let impulse = d.scale(length_squared / positive.select(w, L::splat(1.0)));
-    (impulse, long & positive)
 }
 
-/// [`super::parts::point_block`] with relaxation 1: `P = K^-1 C` by the adjugate of the
-/// symmetric `K = K_a + K_b`, and the mask of lanes that apply it.
-#[inline(always)]
-fn point_block<L: Lane>(
-    a: &BodyLanes<L>,
-    b: &BodyLanes<L>,
-    ra: V3<L>,
-    rb: V3<L>,
-    d: V3<L>,
-) -> (V3<L>, L) {
-    let ka = point_inverse_mass_matrix(a, ra);
-    let kb = point_inverse_mass_matrix(b, rb);
-    let k = SymM3 {
-        xx: ka.xx + kb.xx,
-        yy: ka.yy + kb.yy,
-        zz: ka.zz + kb.zz,
-        xy: ka.xy + kb.xy,
-        xz: ka.xz + kb.xz,
-        yz: ka.yz + kb.yz,
-    };
-    // Cofactors of a symmetric matrix (the adjugate is symmetric too).
-    let adj = SymM3 {
-        xx: k.yy * k.zz - k.yz * k.yz,
-        yy: k.xx * k.zz - k.xz * k.xz,
-        zz: k.xx * k.yy - k.xy * k.xy,
-        xy: k.xz * k.yz - k.xy * k.zz,
-        xz: k.xy * k.yz - k.xz * k.yy,
-        yz: k.xy * k.xz - k.xx * k.yz,
-    };
-    let det = k.xx * adj.xx + k.xy * adj.xy + k.xz * adj.xz;
-    let moving = not(d.length_squared().lt(L::splat(1e-18)));
-    let invertible = not(det.abs().lt(L::splat(1e-20)));
-    let active = moving & invertible;
-    let inv_det = L::splat(1.0) / invertible.select(det, L::splat(1.0));
-    (adj.mul_vec(d).scale(inv_det), active)
+impl<L: Lane> Dislocation<L> {
+    /// [`super::parts::point_along_error`] with relaxation 1: the impulse on a (b gets its
+    /// negative) and the mask of lanes that apply it.
+    ///
+    /// The inverse mass along `n = d / |d|` is quadratic in `n`, so `w(d) = |d|^2 w(n)` and the
+    /// impulse `n |d| / w(n)` is `d |d|^2 / w(d)`: no square root and one division. It differs from
+    /// the scalar code by rounding only; the guards are the same (`|d|^2 < 1e-18` is `|d| < 1e-9`).
+    #[inline(always)]
+    fn along_error(&self, a: &BodyLanes<L>, b: &BodyLanes<L>) -> (V3<L>, L) {
+        let Dislocation { ra, rb, d } = *self;
+        let length_squared = d.length_squared();
+        let long = not(length_squared.lt(L::splat(1e-18)));
+        let angular = |body: &BodyLanes<L>, r: V3<L>| body.angular_inverse_mass(r.cross(d));
+        let w =
+            (a.inverse_mass + b.inverse_mass) * length_squared + angular(a, ra) + angular(b, rb);
+        let positive = w.gt(L::zero());
+        let impulse = d.scale(length_squared / positive.select(w, L::splat(1.0)));
+        (impulse, long & positive)
+    }
+
+    /// [`super::parts::point_block`] with relaxation 1: `P = K^-1 C` by the adjugate of the
+    /// symmetric `K = K_a + K_b`, and the mask of lanes that apply it.
+    #[inline(always)]
+    fn block(&self, a: &BodyLanes<L>, b: &BodyLanes<L>) -> (V3<L>, L) {
+        let Dislocation { ra, rb, d } = *self;
+        let ka = point_inverse_mass_matrix(a, ra);
+        let kb = point_inverse_mass_matrix(b, rb);
+        let k = SymM3 {
+            xx: ka.xx + kb.xx,
+            yy: ka.yy + kb.yy,
+            zz: ka.zz + kb.zz,
+            xy: ka.xy + kb.xy,
+            xz: ka.xz + kb.xz,
+            yz: ka.yz + kb.yz,
+        };
+        // Cofactors of a symmetric matrix (the adjugate is symmetric too).
+        let adj = SymM3 {
+            xx: k.yy * k.zz - k.yz * k.yz,
+            yy: k.xx * k.zz - k.xz * k.xz,
+            zz: k.xx * k.yy - k.xy * k.xy,
+            xy: k.xz * k.yz - k.xy * k.zz,
+            xz: k.xy * k.yz - k.xz * k.yy,
+            yz: k.xy * k.xz - k.xx * k.yz,
+        };
+        let det = k.xx * adj.xx + k.xy * adj.xy + k.xz * adj.xz;
+        let moving = not(d.length_squared().lt(L::splat(1e-18)));
+        let invertible = not(det.abs().lt(L::splat(1e-20)));
+        let active = moving & invertible;
+        let inv_det = L::splat(1.0) / invertible.select(det, L::splat(1.0));
+        (adj.mul_vec(d).scale(inv_det), active)
+    }
 }
 
 /// `1/m E - [r] I^-1 [r]` per lane: `-[r] I^-1 [r] = [r]^T I^-1 [r]` has entries

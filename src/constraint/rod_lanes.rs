@@ -33,7 +33,7 @@
 //! [`SolverBody::apply_angular_impulse`]: crate::solver_body::SolverBody::apply_angular_impulse
 
 use super::rod::{LengthCorrection, RodRow, TwistMode};
-use crate::lanes::{body_indices, padded, BodyLanes, Lane, MAX_LANES, Q, V3};
+use crate::lanes::{body_indices, padded, relative_rotation, BodyLanes, Lane, MAX_LANES, Q, V3};
 use crate::solver_body::SharedBodies;
 
 /// Whether the lane kernel covers this row: the default modes and the paper's alphas (a rod
@@ -126,14 +126,8 @@ pub fn solve_rod_lanes<L: Lane>(row: &RodLanes<L>, a: &mut BodyLanes<L>, b: &mut
         .normalize_or(ta.any_orthonormal(), TRY_NORMALIZE_EPS);
     let psi = sin.atan2(ta.dot(tb));
     let bend = row.alpha_bend.gt(zero) & psi.gt(L::splat(1e-7));
-    relative_rotation(
-        a,
-        b,
-        movable_a,
-        movable_b,
-        bend,
-        axis.scale(-row.alpha_bend * psi),
-    );
+    let bend_rotation = axis.scale(-row.alpha_bend * psi);
+    relative_rotation(a, b, movable_a & bend, movable_b & bend, bend_rotation);
 
     // Soft twist (eq. 12-13): remove alpha_t of tau about t_b.
     let (fa, fb) = (
@@ -143,14 +137,8 @@ pub fn solve_rod_lanes<L: Lane>(row: &RodLanes<L>, a: &mut BodyLanes<L>, b: &mut
     let (ta, tb) = (fa.x_axis(), fb.x_axis());
     let tau = twist_exact(fa, fb, ta, tb);
     let twist = row.alpha_twist.gt(zero);
-    relative_rotation(
-        a,
-        b,
-        movable_a,
-        movable_b,
-        twist,
-        tb.scale(-row.alpha_twist * tau),
-    );
+    let twist_rotation = tb.scale(-row.alpha_twist * tau);
+    relative_rotation(a, b, movable_a & twist, movable_b & twist, twist_rotation);
 
     // Hard curve (eq. 6), full gradient.
     let (ta, tb) = tangents(row, a, b);
@@ -163,8 +151,8 @@ pub fn solve_rod_lanes<L: Lane>(row: &RodLanes<L>, a: &mut BodyLanes<L>, b: &mut
     // p_a = -g_o, p_b = g_o
     move_by(a, active, curve.g_o.scale(-lambda));
     move_by(b, active, curve.g_o.scale(lambda));
-    turn(a, movable_a & active, curve.theta_a.scale(lambda));
-    turn(b, movable_b & active, curve.theta_b.scale(lambda));
+    a.turn_where(movable_a & active, curve.theta_a.scale(lambda));
+    b.turn_where(movable_b & active, curve.theta_b.scale(lambda));
 
     // Hard length (eq. 9), linear motion along o^ at fixed psi.
     let (ta, tb) = tangents(row, a, b);
@@ -192,59 +180,12 @@ fn tangents<L: Lane>(row: &RodLanes<L>, a: &BodyLanes<L>, b: &BodyLanes<L>) -> (
     )
 }
 
-/// Mask negation.
-#[inline(always)]
-fn not<L: Lane>(mask: L) -> L {
-    mask.select(L::zero(), L::splat(f32::from_bits(u32::MAX)))
-}
-
-#[inline(always)]
-fn q_select<L: Lane>(mask: L, t: Q<L>, f: Q<L>) -> Q<L> {
-    Q {
-        x: mask.select(t.x, f.x),
-        y: mask.select(t.y, f.y),
-        z: mask.select(t.z, f.z),
-        w: mask.select(t.w, f.w),
-    }
-}
-
 /// `apply_linear_impulse` where `mask` is set, as a displacement `impulse` (before the inverse
 /// mass); other lanes keep their position bit for bit.
 #[inline(always)]
 fn move_by<L: Lane>(body: &mut BodyLanes<L>, mask: L, impulse: V3<L>) {
     let moved = body.position + impulse.scale(body.inverse_mass);
     body.position = V3::select(mask, moved, body.position);
-}
-
-/// `apply_angular_impulse` where `mask` is set; other lanes keep their orientation and
-/// correction bit for bit (the scalar code returns early for them).
-#[inline(always)]
-fn turn<L: Lane>(body: &mut BodyLanes<L>, mask: L, l: V3<L>) {
-    let correction = body.rotation_correction + body.inverse_inertia.mul_vec(l);
-    let orientation = body.predicted.rotate_by_small(correction);
-    body.rotation_correction = V3::select(mask, correction, body.rotation_correction);
-    body.orientation = q_select(mask, orientation, body.orientation);
-}
-
-/// [`super::parts::relative_rotation`] where `active` is set: turns b by `rotation_b`
-/// relative to a, shared by their inertia about the axis.
-#[inline(always)]
-fn relative_rotation<L: Lane>(
-    a: &mut BodyLanes<L>,
-    b: &mut BodyLanes<L>,
-    movable_a: L,
-    movable_b: L,
-    active: L,
-    rotation_b: V3<L>,
-) {
-    // With n = v / |v| the impulse n |v| / w(n) is v |v|^2 / w(v) (w is quadratic): no square
-    // root, one division; `|v|^2 < 1e-18` is the scalar `|v| < 1e-9`.
-    let angle_squared = rotation_b.length_squared();
-    let w = a.angular_inverse_mass(rotation_b) + b.angular_inverse_mass(rotation_b);
-    let active = active & not(angle_squared.lt(L::splat(1e-18))) & w.gt(L::zero());
-    let l = rotation_b.scale(angle_squared / w.max(L::splat(f32::MIN_POSITIVE)));
-    turn(a, movable_a & active, -l);
-    turn(b, movable_b & active, l);
 }
 
 /// [`super::rod::chord_ratio`] of the angle `psi` between the unit tangents `ta`, `tb`:
@@ -301,7 +242,7 @@ pub fn rotation_arc<L: Lane>(from: V3<L>, to: V3<L>) -> Q<L> {
     };
     let opposite = dot.lt(L::splat(-ONE_MINUS_EPS));
     let same = dot.gt(L::splat(ONE_MINUS_EPS));
-    q_select(same, identity, q_select(opposite, half_turn, general))
+    Q::select(same, identity, Q::select(opposite, half_turn, general))
 }
 
 /// [`crate::math::wrap_angle`] for angles in [-2 pi, 2 pi] (what `2 atan2` gives).

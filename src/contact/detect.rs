@@ -223,22 +223,13 @@ impl PairContext<'_> {
                 arm_b: f.point_b - cb.position,
                 anchor_a,
                 anchor_b,
-                sticking: true,
-                touched: false,
                 static_friction,
                 dynamic_friction,
                 restitution,
                 approach_speed: (cb.point_velocity(f.point_b) - ca.point_velocity(f.point_a))
                     .dot(f.normal),
-                allowed_penetration: 0.0,
-                compliance: 0.0,
-                damping: 0.0,
-                mass_scale_a: 1.0,
-                mass_scale_b: 1.0,
-                start_separation: 0.0,
                 normal_impulse: warm_impulse,
-                warm_impulse: 0.0,
-                friction_impulse: 0.0,
+                ..ContactPoint::UNSOLVED
             });
         }
     }

@@ -108,6 +108,36 @@ pub struct ContactPoint {
 }
 
 impl ContactPoint {
+    /// A point before its first substep: no impulse, sticking, nothing touched, the paper's hard
+    /// contact. Detection fills in the pair, the geometry and the materials over it.
+    pub const UNSOLVED: ContactPoint = ContactPoint {
+        body_a: BodyId(0),
+        body_b: BodyId(0),
+        id: 0,
+        normal: Vec3::Y,
+        local_a: Vec3::ZERO,
+        local_b: Vec3::ZERO,
+        static_friction: 0.0,
+        dynamic_friction: 0.0,
+        restitution: 0.0,
+        arm_a: Vec3::ZERO,
+        arm_b: Vec3::ZERO,
+        anchor_a: Vec3::ZERO,
+        anchor_b: Vec3::ZERO,
+        sticking: true,
+        touched: false,
+        approach_speed: 0.0,
+        allowed_penetration: 0.0,
+        compliance: 0.0,
+        damping: 0.0,
+        mass_scale_a: 1.0,
+        mass_scale_b: 1.0,
+        start_separation: 0.0,
+        normal_impulse: 0.0,
+        warm_impulse: 0.0,
+        friction_impulse: 0.0,
+    };
+
     /// Normal velocity of the points when the contact was found (m/s, negative approaching).
     pub fn approach_speed(&self) -> f32 {
         self.approach_speed

@@ -27,26 +27,9 @@ pub fn capsule_capsule(a: &Collider, b: &Collider, margin: f32, out: &mut Vec<Fe
         let touch = ra + rb + margin;
         touch * touch * (1.0 + 1e-3)
     };
-    let mut push = |pa: Vec3, pb: Vec3, id: FeatureId| {
-        let delta = pb - pa;
-        if delta.length_squared() > beyond {
-            return;
-        }
-        let distance = delta.length();
-        let normal = if distance > 1e-9 {
-            delta / distance
-        } else {
-            (b.position - a.position).try_normalize().unwrap_or(Vec3::Y)
-        };
-        let separation = distance - ra - rb;
-        if separation < margin {
-            out.push(Feature {
-                normal,
-                point_a: pa + ra * normal,
-                point_b: pb - rb * normal,
-                separation,
-                id,
-            });
+    let push = |pa: Vec3, pb: Vec3, id: FeatureId| {
+        if (pb - pa).length_squared() <= beyond {
+            out.extend(sphere_sphere(a, b, (pa, ra), (pb, rb), margin, id));
         }
     };
     let (da, db) = (a1 - a0, b1 - b0);
@@ -72,8 +55,20 @@ pub fn capsule_capsule(a: &Collider, b: &Collider, margin: f32, out: &mut Vec<Fe
             return;
         }
     }
+    segment_pairs(parallel, (a0, a1), (b0, b1), push);
+}
+
+/// The closest points of two segments, as (point on a, point on b, id) handed to `push`: one
+/// pair, or where the segments are `parallel` and overlap, the two ends of the overlap of b's
+/// segment projected on a's (ids 1 and 2).
+fn segment_pairs(
+    parallel: bool,
+    (a0, a1): (Vec3, Vec3),
+    (b0, b1): (Vec3, Vec3),
+    mut push: impl FnMut(Vec3, Vec3, FeatureId),
+) {
     if parallel {
-        // the two ends of the overlap of b's segment projected on a's
+        let da = a1 - a0;
         let axis = da.normalize();
         let project = |p: Vec3| (p - a0).dot(axis).max(0.0).min(da.length());
         let (s0, s1) = (project(b0), project(b1));
@@ -88,6 +83,33 @@ pub fn capsule_capsule(a: &Collider, b: &Collider, margin: f32, out: &mut Vec<Fe
     }
     let (pa, pb) = closest_points_on_segments(a0, a1, b0, b1);
     push(pa, pb, 0);
+}
+
+/// The feature between a sphere of a (centre and radius) and one of b, closer than `margin`;
+/// spheres with coinciding centres are pushed apart along the line between the bodies.
+fn sphere_sphere(
+    a: &Collider,
+    b: &Collider,
+    (pa, ra): (Vec3, f32),
+    (pb, rb): (Vec3, f32),
+    margin: f32,
+    id: FeatureId,
+) -> Option<Feature> {
+    let delta = pb - pa;
+    let distance = delta.length();
+    let normal = if distance > 1e-9 {
+        delta / distance
+    } else {
+        (b.position - a.position).try_normalize().unwrap_or(Vec3::Y)
+    };
+    let separation = distance - ra - rb;
+    (separation < margin).then(|| Feature {
+        normal,
+        point_a: pa + ra * normal,
+        point_b: pb - rb * normal,
+        separation,
+        id,
+    })
 }
 
 /// Half-space (body a: the plane through its position with normal `orientation * +Y`, solid
@@ -260,44 +282,14 @@ mod tests {
         let (Some((a0, a1, ra)), Some((b0, b1, rb))) = (a.segment(), b.segment()) else {
             return;
         };
-        let mut push = |pa: Vec3, pb: Vec3, id: FeatureId| {
-            let delta = pb - pa;
-            let distance = delta.length();
-            let normal = if distance > 1e-9 {
-                delta / distance
-            } else {
-                (b.position - a.position).try_normalize().unwrap_or(Vec3::Y)
-            };
-            let separation = distance - ra - rb;
-            if separation < margin {
-                out.push(Feature {
-                    normal,
-                    point_a: pa + ra * normal,
-                    point_b: pb - rb * normal,
-                    separation,
-                    id,
-                });
-            }
+        let push = |pa: Vec3, pb: Vec3, id: FeatureId| {
+            out.extend(sphere_sphere(a, b, (pa, ra), (pb, rb), margin, id));
         };
         let (da, db) = (a1 - a0, b1 - b0);
         let parallel = da.length_squared() > 1e-12
             && db.length_squared() > 1e-12
             && da.normalize().cross(db.normalize()).length() < 1e-3;
-        if parallel {
-            let axis = da.normalize();
-            let project = |p: Vec3| (p - a0).dot(axis).max(0.0).min(da.length());
-            let (s0, s1) = (project(b0), project(b1));
-            if (s0 - s1).abs() > 1e-6 {
-                for (s, id) in [(s0, 1), (s1, 2)] {
-                    let pa = a0 + s * axis;
-                    let (_, pb) = closest_points_on_segments(pa, pa, b0, b1);
-                    push(pa, pb, id);
-                }
-                return;
-            }
-        }
-        let (pa, pb) = closest_points_on_segments(a0, a1, b0, b1);
-        push(pa, pb, 0);
+        segment_pairs(parallel, (a0, a1), (b0, b1), push);
     }
 
     /// The shortcuts change no bit: 200 000 random capsule and sphere pairs, crossing at any

@@ -1,7 +1,7 @@
 //! [`BodyLanes`]: W solver bodies gathered into lanes by index and scattered back after the
 //! batch, with the body methods of [`crate::solver_body::SolverBody`] per lane.
 
-use super::{Lane, SymM3, MAX_LANES, Q, V3};
+use super::{not, Lane, SymM3, MAX_LANES, Q, V3};
 use crate::solver_body::SharedBodies;
 
 /// W solver bodies, one per lane, gathered by index.
@@ -133,6 +133,23 @@ impl<L: Lane> BodyLanes<L> {
         self.rotate_preview(dtheta);
     }
 
+    /// `SolverBody::apply_angular_impulse` on the lanes of `mask`; the other lanes keep their
+    /// orientation and correction bit for bit (the scalar code returns early for them).
+    #[inline(always)]
+    pub fn turn_where(&mut self, mask: L, l: V3<L>) {
+        let dtheta = self.inverse_inertia.mul_vec(l);
+        self.rotate_preview_where(mask, dtheta);
+    }
+
+    /// Turns the preview by the rotation vector `dtheta` on the lanes of `mask`.
+    #[inline(always)]
+    pub fn rotate_preview_where(&mut self, mask: L, dtheta: V3<L>) {
+        let correction = self.rotation_correction + dtheta;
+        let orientation = self.predicted.rotate_by_small(correction);
+        self.rotation_correction = V3::select(mask, correction, self.rotation_correction);
+        self.orientation = Q::select(mask, orientation, self.orientation);
+    }
+
     /// `SolverBody::positional_inverse_mass` per lane: `1/m + (r x n) . I^-1 (r x n)`.
     #[inline(always)]
     pub fn positional_inverse_mass(&self, r: V3<L>, n: V3<L>) -> L {
@@ -145,4 +162,28 @@ impl<L: Lane> BodyLanes<L> {
     pub fn angular_inverse_mass(&self, g: V3<L>) -> L {
         g.dot(self.inverse_inertia.mul_vec(g))
     }
+}
+
+/// The constraint parts' `relative_rotation` per lane: turns b by `rotation_b` relative to a,
+/// shared by their inertia about the axis; a on the lanes of `mask_a`, b on those of `mask_b`.
+///
+/// With n = v / |v| the impulse n |v| / w(n) is v |v|^2 / w(v) (w is quadratic): no square
+/// root, one division. `|v|^2 < 1e-18` is the scalar `|v| < 1e-9`, and lanes with `w = 0`
+/// (both bodies immovable about the axis) are left alone, as the scalar guards do.
+#[inline(always)]
+pub fn relative_rotation<L: Lane>(
+    a: &mut BodyLanes<L>,
+    b: &mut BodyLanes<L>,
+    mask_a: L,
+    mask_b: L,
+    rotation_b: V3<L>,
+) {
+    let angle_squared = rotation_b.length_squared();
+    let big = not(angle_squared.lt(L::splat(1e-18)));
+    let w = a.angular_inverse_mass(rotation_b) + b.angular_inverse_mass(rotation_b);
+    let positive = w.gt(L::zero());
+    let active = big & positive;
+    let l = rotation_b.scale(angle_squared / positive.select(w, L::splat(1.0)));
+    a.turn_where(active & mask_a, -l);
+    b.turn_where(active & mask_b, l);
 }

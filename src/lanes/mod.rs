@@ -12,7 +12,7 @@ use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Sub};
 mod body;
 mod vector;
 
-pub use body::BodyLanes;
+pub use body::{relative_rotation, BodyLanes};
 pub use vector::{SymM3, Q, V3};
 
 /// The widest lane type's width (`wide::f32x16`); arrays of per-lane data are this long.
@@ -167,6 +167,12 @@ pub trait Lane:
     fn zero() -> Self {
         Self::splat(0.0)
     }
+}
+
+/// Per-lane logical not of a mask.
+#[inline(always)]
+pub fn not<L: Lane>(mask: L) -> L {
+    mask.select(L::zero(), L::zero().lt(L::splat(1.0)))
 }
 
 macro_rules! impl_lane {

@@ -167,6 +167,16 @@ pub struct Q<L> {
 }
 
 impl<L: Lane> Q<L> {
+    /// Per lane: `t` where `mask` is set, else `f`.
+    #[inline(always)]
+    pub fn select(mask: L, t: Self, f: Self) -> Self {
+        Q {
+            x: mask.select(t.x, f.x),
+            y: mask.select(t.y, f.y),
+            z: mask.select(t.z, f.z),
+            w: mask.select(t.w, f.w),
+        }
+    }
     /// Lane `i` from `f(i)`.
     #[inline(always)]
     pub fn from_fn(mut f: impl FnMut(usize) -> Quat) -> Self {

@@ -6,7 +6,7 @@ use super::check_items::{
     check_body, check_joint, check_kinematics, check_name, check_ragdoll, check_rod,
 };
 use super::locate::Seg;
-use super::{variant, KindDef, Scene, SceneDef, ShapeKind};
+use super::{variant, BodyDef, KindDef, Scene, SceneDef, ShapeKind, TileDef};
 
 impl Scene {
     /// The `[[tile]]` groups, before they are expanded: sizes, names, and fixed bodies only.
@@ -61,33 +61,38 @@ impl Scene {
                 };
                 check_name(&b.name, &names).map_err(|m| (field("name"), m))?;
                 names.push(&b.name);
-                if b.kind != KindDef::Fixed {
-                    return Err((
-                        field("kind"),
-                        "a tile copies static geometry: kind must be \"fixed\"".into(),
-                    ));
-                }
-                if b.shape == ShapeKind::Plane {
-                    return Err((
-                        field("shape"),
-                        "a plane is unbounded: give it as one [[body]], not in a tile".into(),
-                    ));
-                }
-                check_body(b).map_err(|(f, m)| (field(f), m))?;
-                bounds::check_body(b, d.max_speed, d.max_angular_speed)
-                    .map_err(|(f, m)| (field(f), m))?;
-                for other in &d.body {
-                    if other.name == t.copy_name(0, 0, &b.name) {
-                        return Err((
-                            field("name"),
-                            format!(
-                                "its copies are named {}_<i>_<k>_{}, and body \"{}\" already exists",
-                                t.name, b.name, other.name
-                            ),
-                        ));
-                    }
-                }
+                self.check_tile_body(t, b).map_err(|(f, m)| (field(f), m))?;
             }
+        }
+        Ok(())
+    }
+
+    /// One body of a tile (`t`): fixed, bounded, valid, and not named as a copy would be.
+    fn check_tile_body(&self, t: &TileDef, b: &BodyDef) -> Result<(), (&'static str, String)> {
+        let d = &self.def;
+        if b.kind != KindDef::Fixed {
+            return Err((
+                "kind",
+                "a tile copies static geometry: kind must be \"fixed\"".into(),
+            ));
+        }
+        if b.shape == ShapeKind::Plane {
+            return Err((
+                "shape",
+                "a plane is unbounded: give it as one [[body]], not in a tile".into(),
+            ));
+        }
+        check_body(b)?;
+        bounds::check_body(b, d.max_speed, d.max_angular_speed)?;
+        let copy = t.copy_name(0, 0, &b.name);
+        if let Some(other) = d.body.iter().find(|other| other.name == copy) {
+            return Err((
+                "name",
+                format!(
+                    "its copies are named {}_<i>_<k>_{}, and body \"{}\" already exists",
+                    t.name, b.name, other.name
+                ),
+            ));
         }
         Ok(())
     }
@@ -151,102 +156,97 @@ impl Scene {
 /// The scene's method settings (a variant's too, with `prefix` its path): time step, counts,
 /// damping, contact options.
 fn check_settings(d: &SceneDef, prefix: &[Seg]) -> Result<(), Failure> {
-    let key = |k: &str| {
-        let mut path = prefix.to_vec();
-        path.push(Seg::Key(k.into()));
-        path
-    };
-    if !(d.dt > 0.0 && d.dt.is_finite()) {
-        return Err((
-            key("dt"),
+    let non_negative = |x: f32| x >= 0.0 && x.is_finite();
+    let ci_frames = d.ci_frames.unwrap_or(1);
+    // (field, whether it holds, what to say when it does not), checked in this order
+    let rules = [
+        (
+            "dt",
+            d.dt > 0.0 && d.dt.is_finite(),
             format!("must be a positive number of seconds, got {}", d.dt),
-        ));
-    }
-    if d.iterations == 0 {
-        return Err((key("iterations"), "must be at least 1".into()));
-    }
-    if d.substeps == 0 {
-        return Err((key("substeps"), "must be at least 1".into()));
-    }
-    if d.frames == 0 {
-        return Err((key("frames"), "must be at least 1".into()));
-    }
-    if let Some(n) = d.ci_frames.filter(|&n| n == 0 || n > d.frames) {
-        return Err((
-            key("ci_frames"),
-            format!("must lie in [1, frames = {}], got {n}", d.frames),
-        ));
-    }
-    if !(d.max_speed > 0.0) {
-        return Err((key("max_speed"), "must be positive".into()));
-    }
-    if d.damping.iter().any(|c| !(*c >= 0.0 && c.is_finite())) {
-        return Err((
-            key("damping"),
+        ),
+        ("iterations", d.iterations > 0, "must be at least 1".into()),
+        ("substeps", d.substeps > 0, "must be at least 1".into()),
+        ("frames", d.frames > 0, "must be at least 1".into()),
+        (
+            "ci_frames",
+            (1..=d.frames).contains(&ci_frames),
+            format!("must lie in [1, frames = {}], got {ci_frames}", d.frames),
+        ),
+        ("max_speed", d.max_speed > 0.0, "must be positive".into()),
+        (
+            "damping",
+            d.damping.iter().all(|&c| non_negative(c)),
             format!("rates must be non-negative, got {:?}", d.damping),
-        ));
-    }
-    if !(d.joint_damping >= 0.0 && d.joint_damping.is_finite()) {
-        return Err((
-            key("joint_damping"),
+        ),
+        (
+            "joint_damping",
+            non_negative(d.joint_damping),
             format!("must be 0 or more (N m s/rad), got {}", d.joint_damping),
-        ));
-    }
-    for (name, value) in [
-        ("max_separation", d.max_separation),
-        ("max_penetration", d.max_penetration),
-    ] {
-        if !(value > 0.0) {
-            return Err((
-                key(name),
-                format!("must be a positive distance in m (or inf), got {value}"),
-            ));
-        }
-    }
-    if !(d.max_angular_speed > 0.0) {
-        return Err((key("max_angular_speed"), "must be positive".into()));
-    }
-    if !(d.contact_push_speed > 0.0) {
-        return Err((
-            key("contact_push_speed"),
+        ),
+        (
+            "max_separation",
+            d.max_separation > 0.0,
+            format!(
+                "must be a positive distance in m (or inf), got {}",
+                d.max_separation
+            ),
+        ),
+        (
+            "max_penetration",
+            d.max_penetration > 0.0,
+            format!(
+                "must be a positive distance in m (or inf), got {}",
+                d.max_penetration
+            ),
+        ),
+        (
+            "max_angular_speed",
+            d.max_angular_speed > 0.0,
+            "must be positive".into(),
+        ),
+        (
+            "contact_push_speed",
+            d.contact_push_speed > 0.0,
             format!(
                 "must be a positive speed in m/s (or inf), got {}",
                 d.contact_push_speed
             ),
-        ));
-    }
-    if !(0.0..=1.0).contains(&d.contact_warm_start) {
-        return Err((
-            key("contact_warm_start"),
+        ),
+        (
+            "contact_warm_start",
+            (0.0..=1.0).contains(&d.contact_warm_start),
             format!(
                 "must be a fraction from 0 to 1, got {}",
                 d.contact_warm_start
             ),
-        ));
-    }
-    if !(d.contact_hertz >= 0.0 && d.contact_hertz.is_finite()) {
-        return Err((
-            key("contact_hertz"),
+        ),
+        (
+            "contact_hertz",
+            non_negative(d.contact_hertz),
             format!(
                 "must be a frequency of 0 Hz or more, got {}",
                 d.contact_hertz
             ),
-        ));
-    }
-    if !(d.contact_damping_ratio >= 0.0 && d.contact_damping_ratio.is_finite()) {
-        return Err((
-            key("contact_damping_ratio"),
+        ),
+        (
+            "contact_damping_ratio",
+            non_negative(d.contact_damping_ratio),
             format!("must be 0 or more, got {}", d.contact_damping_ratio),
-        ));
-    }
-    if !(d.contact_stacking >= 0.0 && d.contact_stacking <= MAX_CONTACT_STACKING) {
-        return Err((
-            key("contact_stacking"),
+        ),
+        (
+            "contact_stacking",
+            (0.0..=MAX_CONTACT_STACKING).contains(&d.contact_stacking),
             format!(
                 "must be a rate from 0 to {MAX_CONTACT_STACKING} per metre, got {}",
                 d.contact_stacking
             ),
-        ));
+        ),
+    ];
+    if let Some((field, _, message)) = rules.into_iter().find(|(_, holds, _)| !holds) {
+        let mut path = prefix.to_vec();
+        path.push(Seg::Key(field.into()));
+        return Err((path, message));
     }
     bounds::check_settings(d, prefix)
 }

@@ -63,45 +63,19 @@ impl Overrides {
     /// Writes the overrides that are set into `def`: settings, and spine, flavour and rod settings
     /// on every ragdoll, joint and rod.
     pub fn apply(&self, def: &mut SceneDef) {
-        if let Some(v) = self.iterations {
-            def.iterations = v;
-        }
-        if let Some(v) = self.substeps {
-            def.substeps = v;
-        }
-        if let Some(v) = self.solver {
-            def.solver = v;
-        }
-        if let Some(v) = self.sleep {
-            def.sleep = v;
-        }
-        if let Some(v) = self.contact_push_speed {
-            def.contact_push_speed = v;
-        }
-        if let Some(v) = self.contact_warm_start {
-            def.contact_warm_start = v;
-        }
-        if let Some(v) = self.contact_hertz {
-            def.contact_hertz = v;
-        }
-        if let Some(v) = self.contact_damping_ratio {
-            def.contact_damping_ratio = v;
-        }
-        if let Some(v) = self.contact_stacking {
-            def.contact_stacking = v;
-        }
-        if let Some(v) = self.joint_damping {
-            def.joint_damping = v;
-        }
-        if let Some(v) = self.dt {
-            def.dt = v;
-        }
-        if let Some(v) = self.frames {
-            def.frames = v;
-        }
-        if let Some(v) = self.record_every {
-            def.record.every = v;
-        }
+        set(&mut def.iterations, self.iterations);
+        set(&mut def.substeps, self.substeps);
+        set(&mut def.solver, self.solver);
+        set(&mut def.sleep, self.sleep);
+        set(&mut def.contact_push_speed, self.contact_push_speed);
+        set(&mut def.contact_warm_start, self.contact_warm_start);
+        set(&mut def.contact_hertz, self.contact_hertz);
+        set(&mut def.contact_damping_ratio, self.contact_damping_ratio);
+        set(&mut def.contact_stacking, self.contact_stacking);
+        set(&mut def.joint_damping, self.joint_damping);
+        set(&mut def.dt, self.dt);
+        set(&mut def.frames, self.frames);
+        set(&mut def.record.every, self.record_every);
         if let Some(spine) = self.spine {
             def.ragdoll.iter_mut().for_each(|r| r.spine = spine);
         }
@@ -112,73 +86,39 @@ impl Overrides {
                 .for_each(|r| r.joint_flavour = Some(flavour));
             def.joint.iter_mut().for_each(|j| j.flavour = Some(flavour));
         }
+        let bend = [self.alpha_b, self.bend_stiffness, self.bend_damping];
+        let twist = [self.alpha_t, self.twist_stiffness, self.twist_damping];
         for r in &mut def.ragdoll {
             r.twist = self.twist.or(r.twist);
-            let (mut alpha_b, mut alpha_t) = (r.alpha_b, r.alpha_t);
-            self.apply_rod(
-                &mut alpha_b,
-                &mut alpha_t,
+            soften(
+                bend,
+                &mut r.alpha_b,
                 &mut r.bend_stiffness,
                 &mut r.bend_damping,
+            );
+            soften(
+                twist,
+                &mut r.alpha_t,
                 &mut r.twist_stiffness,
                 &mut r.twist_damping,
             );
-            (r.alpha_b, r.alpha_t) = (alpha_b, alpha_t);
         }
         for r in &mut def.rod {
             r.twist = self.twist.unwrap_or(r.twist);
             let (mut alpha_b, mut alpha_t) = (Some(r.alpha_b), Some(r.alpha_t));
-            self.apply_rod(
+            soften(
+                bend,
                 &mut alpha_b,
-                &mut alpha_t,
                 &mut r.bend_stiffness,
                 &mut r.bend_damping,
+            );
+            soften(
+                twist,
+                &mut alpha_t,
                 &mut r.twist_stiffness,
                 &mut r.twist_damping,
             );
             (r.alpha_b, r.alpha_t) = (alpha_b.unwrap_or(0.0), alpha_t.unwrap_or(0.0));
-        }
-    }
-
-    /// One rod's softness: an alpha given here replaces its stiffness, a stiffness given here
-    /// replaces its alpha (`None`: not set).
-    fn apply_rod(
-        &self,
-        alpha_b: &mut Option<f32>,
-        alpha_t: &mut Option<f32>,
-        bend_stiffness: &mut Option<f32>,
-        bend_damping: &mut Option<f32>,
-        twist_stiffness: &mut Option<f32>,
-        twist_damping: &mut Option<f32>,
-    ) {
-        let parts = [
-            (
-                self.alpha_b,
-                self.bend_stiffness,
-                self.bend_damping,
-                alpha_b,
-                bend_stiffness,
-                bend_damping,
-            ),
-            (
-                self.alpha_t,
-                self.twist_stiffness,
-                self.twist_damping,
-                alpha_t,
-                twist_stiffness,
-                twist_damping,
-            ),
-        ];
-        for (new_alpha, new_stiffness, new_damping, alpha, stiffness, damping) in parts {
-            if new_alpha.is_some() {
-                (*alpha, *stiffness, *damping) = (new_alpha, None, None);
-            }
-            if new_stiffness.is_some() {
-                (*alpha, *stiffness) = (None, new_stiffness);
-            }
-            if new_damping.is_some() {
-                *damping = new_damping;
-            }
         }
     }
 
@@ -215,5 +155,32 @@ impl Overrides {
             return Err("--twist-damping damps a twist stiffness, and no rod has one: add --twist-stiffness".into());
         }
         Ok(())
+    }
+}
+
+/// One rod part's softness (bend or twist) under the overrides `[alpha, stiffness, damping]`
+/// (`None`: not given): an alpha given replaces the stiffness and its damping, a stiffness
+/// given replaces the alpha, a damping given replaces the damping.
+fn soften(
+    [new_alpha, new_stiffness, new_damping]: [Option<f32>; 3],
+    alpha: &mut Option<f32>,
+    stiffness: &mut Option<f32>,
+    damping: &mut Option<f32>,
+) {
+    if new_alpha.is_some() {
+        (*alpha, *stiffness, *damping) = (new_alpha, None, None);
+    }
+    if new_stiffness.is_some() {
+        (*alpha, *stiffness) = (None, new_stiffness);
+    }
+    if new_damping.is_some() {
+        *damping = new_damping;
+    }
+}
+
+/// Writes `value` into `target` where it is given.
+fn set<T>(target: &mut T, value: Option<T>) {
+    if let Some(v) = value {
+        *target = v;
     }
 }

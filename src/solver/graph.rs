@@ -151,21 +151,20 @@ impl Colouring {
 mod tests {
     use super::*;
 
+    /// Colours body-pair rows in place.
+    fn colour(order: Order, rows: &mut Vec<(u32, u32)>, movable: &[bool]) -> Colours {
+        let (mut scratch, mut colours) = (Vec::new(), Colours::default());
+        let pair = |r: &(u32, u32)| *r;
+        Colouring::default().colour(order, rows, &mut scratch, &mut colours, movable, pair);
+        colours
+    }
+
     #[test]
     fn greedy_chain_alternates_and_no_colour_shares_a_movable_body() {
         // a chain 0-1-2-3-4 hung from fixed body 5, plus two rows on the fixed body only
         let movable = [true, true, true, true, true, false];
         let mut rows: Vec<(u32, u32)> = vec![(5, 0), (0, 1), (1, 2), (2, 3), (3, 4), (5, 4)];
-        let (mut scratch, mut colours) = (Vec::new(), Colours::default());
-        let order = Order::Greedy;
-        Colouring::default().colour(
-            order,
-            &mut rows,
-            &mut scratch,
-            &mut colours,
-            &movable,
-            |r| *r,
-        );
+        let colours = colour(Order::Greedy, &mut rows, &movable);
         for (_, range) in colours.ranges() {
             let mut seen = [false; 6];
             for &(a, b) in &rows[range] {
@@ -185,16 +184,7 @@ mod tests {
     fn a_hub_overflows_into_the_last_colour() {
         let movable = vec![true; 101];
         let mut rows: Vec<(u32, u32)> = (0..100).map(|i| (100, i)).collect();
-        let (mut scratch, mut colours) = (Vec::new(), Colours::default());
-        let order = Order::Greedy;
-        Colouring::default().colour(
-            order,
-            &mut rows,
-            &mut scratch,
-            &mut colours,
-            &movable,
-            |r| *r,
-        );
+        let colours = colour(Order::Greedy, &mut rows, &movable);
         let overflow = colours.starts[MAX_COLOURS] - colours.starts[MAX_COLOURS - 1];
         assert_eq!(overflow, 100 - (MAX_COLOURS as u32 - 1));
         assert!(colours.is_overflow(MAX_COLOURS - 1));
@@ -207,16 +197,7 @@ mod tests {
         // chain a: 6-0-1-2, chain b: 6-3-4-5, interleaved as two builders would not, but legal
         let stored: Vec<(u32, u32)> = vec![(6, 0), (0, 1), (6, 3), (1, 2), (3, 4), (4, 5)];
         let mut rows = stored.clone();
-        let (mut scratch, mut colours) = (Vec::new(), Colours::default());
-        let order = Order::Kept;
-        Colouring::default().colour(
-            order,
-            &mut rows,
-            &mut scratch,
-            &mut colours,
-            &movable,
-            |r| *r,
-        );
+        let colours = colour(Order::Kept, &mut rows, &movable);
         let position = |r: (u32, u32)| rows.iter().position(|x| *x == r).unwrap();
         for (i, x) in stored.iter().enumerate() {
             for y in &stored[i + 1..] {
