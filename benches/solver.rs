@@ -87,8 +87,8 @@ fn perturbed_rods() -> (Vec<SolverBody>, Vec<RodRow>) {
         );
         let ids = (BodyId(2 * i as u32), BodyId(2 * i as u32 + 1));
         let mut rod = Rod::instantiate(format!("r{i}"), &bodies, ids.0, ids.1, Vec3::Z).unwrap();
-        rod.alpha_bend = 0.1;
-        rod.alpha_twist = 0.5;
+        rod.params.alpha_bend = 0.1;
+        rod.params.alpha_twist = 0.5;
         rows.push(rod.prepare());
         let wobble = (x * 1.7).sin();
         let chest = &mut bodies[2 * i + 1];

@@ -180,12 +180,7 @@ fn add_spine_rod(
         id(chest),
         forward,
     )?;
-    rod.alpha_bend = spec.rod.alpha_bend;
-    rod.alpha_twist = spec.rod.alpha_twist;
-    rod.bend_stiffness = spec.rod.bend_stiffness;
-    rod.twist_stiffness = spec.rod.twist_stiffness;
-    rod.twist_mode = spec.rod.twist_mode;
-    rod.length_correction = spec.rod.length_correction;
+    rod.params = spec.rod;
     world.constraints.push(Constraint::Rod(rod));
     Ok(())
 }

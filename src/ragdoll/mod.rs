@@ -28,7 +28,8 @@ use std::ops::Range;
 use serde::Deserialize;
 
 use crate::body::BodyId;
-use crate::constraint::{JointFlavour, LengthCorrection, Stiffness, TwistMode};
+use crate::constraint::JointFlavour;
+pub use crate::constraint::RodParams;
 use crate::math::{Iso, Quat, Vec3};
 use crate::skeleton::Skeleton;
 use crate::world::World;
@@ -79,36 +80,6 @@ pub struct HumanoidSpec {
     pub rod: RodParams,
     /// Constant external forces (N) on parts, e.g. a push on the chest.
     pub forces: Vec<(String, Vec3)>,
-}
-
-/// The rod spine's soft-constraint relaxations and twist measure.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RodParams {
-    /// Bending relaxation alpha_b in [0, 1] (eq. 11); default 0.1.
-    pub alpha_bend: f32,
-    /// Twisting relaxation alpha_t in [0, 1] (eq. 12-13); default 0.5.
-    pub alpha_twist: f32,
-    /// Stiffness in physical units, replacing the alphas where set.
-    pub bend_stiffness: Option<Stiffness>,
-    /// Twisting stiffness, replacing `alpha_twist` where set.
-    pub twist_stiffness: Option<Stiffness>,
-    /// How the twist tau is measured; default exact.
-    pub twist_mode: TwistMode,
-    /// How the length constraint (eq. 9) is corrected; default the paper's offset correction.
-    pub length_correction: LengthCorrection,
-}
-
-impl Default for RodParams {
-    fn default() -> Self {
-        RodParams {
-            alpha_bend: 0.1,
-            alpha_twist: 0.5,
-            bend_stiffness: None,
-            twist_stiffness: None,
-            twist_mode: TwistMode::Exact,
-            length_correction: LengthCorrection::Offset,
-        }
-    }
 }
 
 impl HumanoidSpec {

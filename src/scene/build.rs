@@ -56,12 +56,14 @@ impl Scene {
             let mut rod = Rod::instantiate(&r.name, &world.bodies, a, b, Vec3::from(r.normal))
                 .map_err(|m| self.error_at(&path, m))?;
             rod.rest_length = r.rest_length.unwrap_or(rod.rest_length);
-            rod.alpha_bend = r.alpha_b;
-            rod.alpha_twist = r.alpha_t;
-            rod.bend_stiffness = r.stiffness().bend();
-            rod.twist_stiffness = r.stiffness().twist();
-            rod.twist_mode = r.twist;
-            rod.length_correction = r.length_correction;
+            rod.params = RodParams {
+                alpha_bend: r.alpha_b,
+                alpha_twist: r.alpha_t,
+                bend_stiffness: r.stiffness().bend(),
+                twist_stiffness: r.stiffness().twist(),
+                twist_mode: r.twist,
+                length_correction: r.length_correction,
+            };
             world.constraints.push(Constraint::Rod(rod));
         }
         // the scene's own joints and rods form one group, measured like a ragdoll

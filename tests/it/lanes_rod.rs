@@ -127,8 +127,8 @@ fn rods(copies: usize) -> (Vec<SolverBody>, Vec<RodRow>) {
         let mut pair = vec![pelvis, chest];
         let mut rod =
             Rod::instantiate(format!("r{k}"), &pair, BodyId(0), BodyId(1), Vec3::Z).unwrap();
-        rod.alpha_bend = case.alpha_bend;
-        rod.alpha_twist = case.alpha_twist;
+        rod.params.alpha_bend = case.alpha_bend;
+        rod.params.alpha_twist = case.alpha_twist;
         let chest = &mut pair[1];
         chest.set_pose(chest.position + case.offset, case.turn * chest.orientation);
         let base = bodies.len() as u32;

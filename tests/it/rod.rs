@@ -23,7 +23,7 @@ use rodlab::constraint::rod::{
     arc_point, chord_ratio, curve_error, curve_gradient, curve_vector, length_error, offset_axis,
     twist_exact, twist_paper,
 };
-use rodlab::constraint::{Constraint, LengthCorrection, Rod, TwistMode};
+use rodlab::constraint::{Constraint, LengthCorrection, Rod, RodParams};
 use rodlab::math::{angle_between, quat_from_rotation_vector, Quat, Vec3};
 use rodlab::shape::{Axis, Shape};
 use rodlab::world::{Settings, World};
@@ -370,8 +370,8 @@ fn perturbed_rod_returns_to_a_valid_arc() {
     let mut worst_needed = 0;
     for trial in 0..50 {
         let (mut bodies, mut rod) = pelvis_chest();
-        rod.alpha_bend = 0.0;
-        rod.alpha_twist = 0.0;
+        rod.params.alpha_bend = 0.0;
+        rod.params.alpha_twist = 0.0;
         // Move the chest 2-3 cm and turn it 0.3 rad, both in random directions.
         let chest = &bodies[1];
         let shift = rng.range(0.02, 0.03) as f32 * rng.direction();
@@ -451,8 +451,8 @@ fn rod_net_over_created(e: f32, alpha: f32) -> (f32, f32) {
         let centred = body.position - Vec3::new(0.0, 1.1925, 0.0);
         body.set_pose(centred, body.orientation);
     }
-    rod.alpha_bend = alpha;
-    rod.alpha_twist = alpha;
+    rod.params.alpha_bend = alpha;
+    rod.params.alpha_twist = alpha;
     let chest = &bodies[1];
     let p = chest.position + e * Vec3::new(0.6, 0.5, 0.6);
     let q = quat_from_rotation_vector(25.0 * e * Vec3::new(0.3, 0.5, 0.8).normalize())
@@ -535,8 +535,8 @@ fn cantilever(settings: Settings, alpha_bend: f32, alpha_twist: f32) -> World {
         capsule("tip", 2.0, 0.1, 0.05).with_pose(Vec3::new(0.385, 0.0, 0.0), Quat::IDENTITY),
     );
     let mut rod = Rod::instantiate("rod", &world.bodies, a, b, Vec3::Y).unwrap();
-    rod.alpha_bend = alpha_bend;
-    rod.alpha_twist = alpha_twist;
+    rod.params.alpha_bend = alpha_bend;
+    rod.params.alpha_twist = alpha_twist;
     world.constraints.push(Constraint::Rod(rod));
     world
 }
@@ -658,12 +658,11 @@ fn posed_rod(pa: Vec3, fa: Quat, pb: Vec3, fb: Quat, l0: f32, alpha: f32) -> (Ve
         local_frame_a: Quat::IDENTITY,
         local_frame_b: Quat::IDENTITY,
         rest_length: l0,
-        alpha_bend: alpha,
-        alpha_twist: alpha,
-        bend_stiffness: None,
-        twist_stiffness: None,
-        twist_mode: TwistMode::Exact,
-        length_correction: LengthCorrection::Offset,
+        params: RodParams {
+            alpha_bend: alpha,
+            alpha_twist: alpha,
+            ..RodParams::default()
+        },
     };
     (bodies, rod)
 }
@@ -982,7 +981,7 @@ fn free_rod_energy_gain(correction: LengthCorrection) -> f32 {
     };
     let mut world = cantilever(settings, 0.0, 0.0);
     if let Constraint::Rod(rod) = &mut world.constraints[0] {
-        rod.length_correction = correction;
+        rod.params.length_correction = correction;
     }
     let energy = |w: &World| w.kinetic_energy() + w.potential_energy();
     let e0 = energy(&world);

@@ -30,9 +30,9 @@ fn cantilever(settings: Settings, bend: Option<Stiffness>, twist: Option<Stiffne
             .with_pose(Vec3::new(0.385, 0.0, 0.0), Quat::IDENTITY),
     );
     let mut rod = Rod::instantiate("rod", &world.bodies, root, tip, Vec3::Y).unwrap();
-    rod.bend_stiffness = bend;
-    rod.twist_stiffness = twist;
-    rod.length_correction = LengthCorrection::Gradient;
+    rod.params.bend_stiffness = bend;
+    rod.params.twist_stiffness = twist;
+    rod.params.length_correction = LengthCorrection::Gradient;
     world.constraints.push(Constraint::Rod(rod));
     world
 }

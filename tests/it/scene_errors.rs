@@ -611,13 +611,16 @@ fn rod_stiffness_mistakes_name_the_field() {
         })
         .unwrap();
     assert_eq!(
-        rod.bend_stiffness,
+        rod.params.bend_stiffness,
         Some(rodlab::constraint::Stiffness {
             stiffness: 50.0,
             damping: 2.0
         })
     );
-    assert_eq!((rod.alpha_bend, rod.twist_stiffness), (0.0, None));
+    assert_eq!(
+        (rod.params.alpha_bend, rod.params.twist_stiffness),
+        (0.0, None)
+    );
 }
 
 /// The command line's rod overrides: a stiffness replaces the file's alpha (and an alpha the

@@ -108,18 +108,41 @@ pub struct Rod {
     pub local_frame_b: Quat,
     /// Rest length l_0 (m).
     pub rest_length: f32,
-    /// Bending relaxation alpha_b in [0, 1].
+    /// Softness (alphas or stiffness) and methods (twist measure, length correction).
+    pub params: RodParams,
+}
+
+/// A rod's softness and methods, what scenes choose per rod and per rod spine.
+///
+/// The defaults are the rod spine's (alpha_b 0.1, alpha_t 0.5); [`Rod::instantiate`] starts a
+/// rod with both alphas 0 (no bend or twist correction) until its builder sets them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RodParams {
+    /// Bending relaxation alpha_b in [0, 1] (eq. 11); default 0.1.
     pub alpha_bend: f32,
-    /// Twisting relaxation alpha_t in [0, 1].
+    /// Twisting relaxation alpha_t in [0, 1] (eq. 12-13); default 0.5.
     pub alpha_twist: f32,
-    /// Bending stiffness; when set it replaces `alpha_bend`.
+    /// Stiffness in physical units, replacing the alphas where set.
     pub bend_stiffness: Option<Stiffness>,
-    /// Twisting stiffness; when set it replaces `alpha_twist`.
+    /// Twisting stiffness, replacing `alpha_twist` where set.
     pub twist_stiffness: Option<Stiffness>,
-    /// How tau is measured for the twist (eq. 12-13).
+    /// How the twist tau is measured; default exact.
     pub twist_mode: TwistMode,
-    /// How the length constraint (eq. 9) is corrected.
+    /// How the length constraint (eq. 9) is corrected; default the paper's offset correction.
     pub length_correction: LengthCorrection,
+}
+
+impl Default for RodParams {
+    fn default() -> Self {
+        RodParams {
+            alpha_bend: 0.1,
+            alpha_twist: 0.5,
+            bend_stiffness: None,
+            twist_stiffness: None,
+            twist_mode: TwistMode::Exact,
+            length_correction: LengthCorrection::Offset,
+        }
+    }
 }
 
 /// Everything measured on a rod at one instant.
@@ -170,12 +193,11 @@ impl Rod {
             local_frame_a: (a.orientation.inverse() * frame).normalize(),
             local_frame_b: (b.orientation.inverse() * frame).normalize(),
             rest_length,
-            alpha_bend: 0.0,
-            alpha_twist: 0.0,
-            bend_stiffness: None,
-            twist_stiffness: None,
-            twist_mode: TwistMode::Exact,
-            length_correction: LengthCorrection::Offset,
+            params: RodParams {
+                alpha_bend: 0.0,
+                alpha_twist: 0.0,
+                ..RodParams::default()
+            },
         })
     }
 
@@ -189,7 +211,7 @@ impl Rod {
 
     /// Twist tau (rad) between the world rod frames F(0) and F(1), by the rod's [`TwistMode`].
     pub fn twist(&self, frame_a: Quat, frame_b: Quat) -> f32 {
-        measure_twist(self.twist_mode, frame_a, frame_b)
+        measure_twist(self.params.twist_mode, frame_a, frame_b)
     }
 
     /// The prepare stage: the rod as the solver stores it.
@@ -200,12 +222,12 @@ impl Rod {
             frame_a: self.local_frame_a,
             frame_b: self.local_frame_b,
             rest_length: self.rest_length,
-            alpha_bend: self.alpha_bend,
-            alpha_twist: self.alpha_twist,
-            bend_compliant: self.bend_stiffness.map(Compliant::new),
-            twist_compliant: self.twist_stiffness.map(Compliant::new),
-            twist_mode: self.twist_mode,
-            length_correction: self.length_correction,
+            alpha_bend: self.params.alpha_bend,
+            alpha_twist: self.params.alpha_twist,
+            bend_compliant: self.params.bend_stiffness.map(Compliant::new),
+            twist_compliant: self.params.twist_stiffness.map(Compliant::new),
+            twist_mode: self.params.twist_mode,
+            length_correction: self.params.length_correction,
         }
     }
 

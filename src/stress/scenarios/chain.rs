@@ -55,8 +55,8 @@ pub(super) fn chain(
         let constraint = if method == Method::Rod {
             let mut rod = Rod::instantiate(name, &world.bodies, previous, link, normal)
                 .expect("link centres are 2 HALF apart");
-            rod.alpha_bend = 0.0;
-            rod.alpha_twist = ROD_ALPHA_TWIST;
+            rod.params.alpha_bend = 0.0;
+            rod.params.alpha_twist = ROD_ALPHA_TWIST;
             Constraint::Rod(rod)
         } else {
             let anchor = centre - HALF * along;
