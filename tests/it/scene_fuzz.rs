@@ -5,13 +5,76 @@
 //! may panic or hang, and every rejection must name the file and a line. (Before the bounds of
 //! `src/scene/bounds.rs`, a run of this seed never finished.)
 
+use std::cell::Cell;
+use std::io::Write;
 use std::panic::{catch_unwind, AssertUnwindSafe};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{Arc, Once};
+use std::time::{Duration, Instant};
 
 use rodlab::scene::Scene;
 use rodlab::sim::{self, NoObserver};
 
 const MUTANTS: usize = 1200;
+
+thread_local! {
+    static QUIET: Cell<bool> = const { Cell::new(false) };
+}
+
+/// Silences panic messages on this thread while it lives (the process's panic hook is wrapped
+/// once, and prints for every other thread as before).
+struct QuietPanics;
+
+impl QuietPanics {
+    fn on_this_thread() -> Self {
+        static WRAP: Once = Once::new();
+        WRAP.call_once(|| {
+            let previous = std::panic::take_hook();
+            std::panic::set_hook(Box::new(move |info| {
+                if !QUIET.with(Cell::get) {
+                    previous(info);
+                }
+            }));
+        });
+        QUIET.with(|q| q.set(true));
+        QuietPanics
+    }
+}
+
+impl Drop for QuietPanics {
+    fn drop(&mut self) {
+        QUIET.with(|q| q.set(false));
+    }
+}
+
+/// Ends the process with a message (written past the test harness's capture) if it is still
+/// alive after `limit`; dropping it stands it down.
+struct Watchdog(Arc<AtomicBool>);
+
+impl Watchdog {
+    fn start(limit: Duration, message: impl Fn() -> String + Send + 'static) -> Self {
+        let done = Arc::new(AtomicBool::new(false));
+        let seen = done.clone();
+        std::thread::spawn(move || {
+            let started = Instant::now();
+            while started.elapsed() < limit {
+                std::thread::sleep(Duration::from_millis(200));
+                if seen.load(Ordering::Relaxed) {
+                    return;
+                }
+            }
+            let _ = writeln!(std::io::stderr(), "{}", message());
+            std::process::exit(101);
+        });
+        Watchdog(done)
+    }
+}
+
+impl Drop for Watchdog {
+    fn drop(&mut self) {
+        self.0.store(true, Ordering::Relaxed);
+    }
+}
 
 /// A small deterministic generator (64-bit LCG, Knuth's MMIX constants).
 struct Random(u64);
@@ -146,18 +209,18 @@ fn a_thousand_mutated_scenes_never_panic_and_every_rejection_names_a_line() {
         })
         .collect();
     scenes.sort();
-    // quiet panics: they are counted, not printed
-    std::panic::set_hook(Box::new(|_| {}));
-    // a mutant that never finishes (the old unbounded `iterations`) fails the test instead of
-    // hanging it
+    // This thread's panics are counted, not printed; other tests' panics (the test binary
+    // runs them alongside) still print.
+    let _quiet = QuietPanics::on_this_thread();
+    // A mutant that never finishes (the old unbounded `iterations`) ends the test binary
+    // instead of hanging it. The watchdog stands down when this test ends, pass or fail: the
+    // binary's other tests keep running long after (it once ended them 120 s in, silently).
     static CURRENT: AtomicUsize = AtomicUsize::new(0);
-    std::thread::spawn(|| {
-        std::thread::sleep(std::time::Duration::from_secs(120));
-        eprintln!(
+    let _watchdog = Watchdog::start(std::time::Duration::from_secs(120), || {
+        format!(
             "mutant {} still running after 120 s",
             CURRENT.load(Ordering::Relaxed)
-        );
-        std::process::exit(101);
+        )
     });
     let mut random = Random(2026);
     let (mut rejected, mut ran, mut checked_only) = (0, 0, 0);
@@ -204,7 +267,6 @@ fn a_thousand_mutated_scenes_never_panic_and_every_rejection_names_a_line() {
             Ok(_) => ran += 1,
         }
     }
-    let _ = std::panic::take_hook();
     println!(
         "{MUTANTS} mutants in {:.1} s: {rejected} rejected, {ran} run for 5 frames, \
          {checked_only} checked only",
