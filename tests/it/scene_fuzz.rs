@@ -211,7 +211,7 @@ fn a_thousand_mutated_scenes_never_panic_and_every_rejection_names_a_line() {
     scenes.sort();
     // This thread's panics are counted, not printed; other tests' panics (the test binary
     // runs them alongside) still print.
-    let _quiet = QuietPanics::on_this_thread();
+    let quiet = QuietPanics::on_this_thread();
     // A mutant that never finishes (the old unbounded `iterations`) ends the test binary
     // instead of hanging it. The watchdog stands down when this test ends, pass or fail: the
     // binary's other tests keep running long after (it once ended them 120 s in, silently).
@@ -267,6 +267,7 @@ fn a_thousand_mutated_scenes_never_panic_and_every_rejection_names_a_line() {
             Ok(_) => ran += 1,
         }
     }
+    drop(quiet); // the verdict below must print if it fails
     println!(
         "{MUTANTS} mutants in {:.1} s: {rejected} rejected, {ran} run for 5 frames, \
          {checked_only} checked only",
