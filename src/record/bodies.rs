@@ -207,24 +207,44 @@ pub(super) fn pose_track_kind(world: &World, batch: &BodyBatch) -> TrackKind {
     }
 }
 
-/// A batch's colours (after a sleep state changed), at the current frame.
+/// A batch's colours from frame `frame` (simulated `time`, s) on: one chunk per change, sent as
+/// columns rather than `log`ged, so the file's chunks do not depend on when Rerun's batcher
+/// flushes (`rerun rrd compare` then finds two runs of a sleeping scene equal).
 pub(super) fn log_colors(
     rec: &RecordingStream,
     world: &World,
     batch: &BodyBatch,
     colors: Vec<rerun::Color>,
+    (frame, time): (i64, f64),
 ) -> anyhow::Result<()> {
     let entity = batch.entity.as_str();
+    let times = [
+        rerun::TimeColumn::new_sequence("frame", [frame]),
+        rerun::TimeColumn::new_duration_secs("sim_time", [time]),
+    ];
+    let lengths = [colors.len()];
     match pose_track_kind(world, batch) {
-        TrackKind::Capsules => rec.log(
+        TrackKind::Capsules => rec.send_columns(
             entity,
-            &rerun::Capsules3D::update_fields().with_colors(colors),
+            times,
+            rerun::Capsules3D::update_fields()
+                .with_colors(colors)
+                .columns(lengths)?,
         )?,
-        TrackKind::Ellipsoids => rec.log(
+        TrackKind::Ellipsoids => rec.send_columns(
             entity,
-            &rerun::Ellipsoids3D::update_fields().with_colors(colors),
+            times,
+            rerun::Ellipsoids3D::update_fields()
+                .with_colors(colors)
+                .columns(lengths)?,
         )?,
-        _ => rec.log(entity, &rerun::Boxes3D::update_fields().with_colors(colors))?,
+        _ => rec.send_columns(
+            entity,
+            times,
+            rerun::Boxes3D::update_fields()
+                .with_colors(colors)
+                .columns(lengths)?,
+        )?,
     }
     Ok(())
 }

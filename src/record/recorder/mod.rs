@@ -217,7 +217,7 @@ impl Recorder {
                 }
                 let colors = sleep_colors(batch, world);
                 if !colors.is_empty() {
-                    log_colors(&self.rec, world, batch, colors)?;
+                    log_colors(&self.rec, world, batch, colors, (frame, time))?;
                 }
             }
         }
