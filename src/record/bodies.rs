@@ -223,29 +223,18 @@ pub(super) fn log_colors(
         rerun::TimeColumn::new_duration_secs("sim_time", [time]),
     ];
     let lengths = [colors.len()];
-    match pose_track_kind(world, batch) {
-        TrackKind::Capsules => rec.send_columns(
-            entity,
-            times,
-            rerun::Capsules3D::update_fields()
-                .with_colors(colors)
-                .columns(lengths)?,
-        )?,
-        TrackKind::Ellipsoids => rec.send_columns(
-            entity,
-            times,
-            rerun::Ellipsoids3D::update_fields()
-                .with_colors(colors)
-                .columns(lengths)?,
-        )?,
-        _ => rec.send_columns(
-            entity,
-            times,
-            rerun::Boxes3D::update_fields()
-                .with_colors(colors)
-                .columns(lengths)?,
-        )?,
-    }
+    let columns: Vec<_> = match pose_track_kind(world, batch) {
+        TrackKind::Capsules => (rerun::Capsules3D::update_fields().with_colors(colors))
+            .columns(lengths)?
+            .collect(),
+        TrackKind::Ellipsoids => (rerun::Ellipsoids3D::update_fields().with_colors(colors))
+            .columns(lengths)?
+            .collect(),
+        _ => (rerun::Boxes3D::update_fields().with_colors(colors))
+            .columns(lengths)?
+            .collect(),
+    };
+    rec.send_columns(entity, times, columns)?;
     Ok(())
 }
 
