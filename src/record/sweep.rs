@@ -19,28 +19,8 @@ pub fn save_sweep(
     machine: &str,
     chart_png: &[u8],
 ) -> anyhow::Result<()> {
-    use rerun::blueprint::Spatial2DView;
     create_parent(path)?;
-    let plots = Vertical::new([
-        ContainerLike::from(
-            TimeSeriesView::new("log10 mean dislocation (cm) by iterations")
-                .with_origin("sweep/residual_log10"),
-        ),
-        ContainerLike::from(
-            TimeSeriesView::new("Time per step (us) by iterations").with_origin("sweep/step_us"),
-        ),
-    ]);
-    let left = Tabs::new([
-        ContainerLike::from(
-            Spatial2DView::new("Residual against time per step").with_origin("sweep/chart"),
-        ),
-        ContainerLike::from(TextDocumentView::new("Sweep CSV").with_origin("sweep/table")),
-    ]);
-    let blueprint = Blueprint::new(
-        Horizontal::new([ContainerLike::from(left), ContainerLike::from(plots)])
-            .with_column_shares([0.6, 0.4]),
-    )
-    .with_auto_views(false);
+    let blueprint = sweep_blueprint();
     let rec = rerun::RecordingStreamBuilder::new(APPLICATION_ID)
         .recording_name(format!("{scene}_sweep"))
         .with_blueprint(blueprint)
@@ -92,4 +72,30 @@ pub fn save_sweep(
     }
     rec.flush_blocking()?;
     Ok(())
+}
+
+/// The sweep recording's layout: the chart and the CSV in tabs, beside the two series by
+/// iterations.
+fn sweep_blueprint() -> Blueprint {
+    use rerun::blueprint::Spatial2DView;
+    let plots = Vertical::new([
+        ContainerLike::from(
+            TimeSeriesView::new("log10 mean dislocation (cm) by iterations")
+                .with_origin("sweep/residual_log10"),
+        ),
+        ContainerLike::from(
+            TimeSeriesView::new("Time per step (us) by iterations").with_origin("sweep/step_us"),
+        ),
+    ]);
+    let left = Tabs::new([
+        ContainerLike::from(
+            Spatial2DView::new("Residual against time per step").with_origin("sweep/chart"),
+        ),
+        ContainerLike::from(TextDocumentView::new("Sweep CSV").with_origin("sweep/table")),
+    ]);
+    Blueprint::new(
+        Horizontal::new([ContainerLike::from(left), ContainerLike::from(plots)])
+            .with_column_shares([0.6, 0.4]),
+    )
+    .with_auto_views(false)
 }
