@@ -122,7 +122,7 @@ pub struct RodParams {
     pub alpha_bend: f32,
     /// Twisting relaxation alpha_t in [0, 1] (eq. 12-13); default 0.5.
     pub alpha_twist: f32,
-    /// Stiffness in physical units, replacing the alphas where set.
+    /// Bending stiffness in physical units, replacing `alpha_bend` where set.
     pub bend_stiffness: Option<Stiffness>,
     /// Twisting stiffness, replacing `alpha_twist` where set.
     pub twist_stiffness: Option<Stiffness>,
