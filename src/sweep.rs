@@ -19,7 +19,7 @@
 //!
 //! | column | meaning |
 //! |---|---|
-//! | `method` | `<spine>/<joint>[ simd][ x<substeps>][ warm<w>][ soft<f>Hz][ stack<k>]`, e.g. `rod/exact x4` |
+//! | `method` | `<spine>/<joint>[ simd][ x<substeps>][ warm<w>][ soft<f>Hz][ stack<k>][ redetect]`, e.g. `rod/exact x4` |
 //! | `spine` | chain3, rod or single |
 //! | `joint` | cheap or exact |
 //! | `solver` | scalar or simd (empty for a peer engine) |
@@ -27,6 +27,7 @@
 //! | `warm_start` | contacts' warm-start fraction (0: the paper's method) |
 //! | `contact_hertz` | soft contacts' frequency (0: hard, the paper's method) |
 //! | `contact_stacking` | stacking's rate k (1/m; 0: the paper's method) |
+//! | `contact_detection` | when contact points are found: `frame` (the paper's method) or `substep` (label ` redetect`) |
 //! | `dt` | time step (s) of a frame |
 //! | `iterations` | solver iterations per substep |
 //! | `step_us` | median time per step (microseconds) |
@@ -44,7 +45,7 @@ use crate::metrics::FrameMetrics;
 use crate::ragdoll::SpineKind;
 use crate::scene::{Scene, SceneDef};
 use crate::sim::Overrides;
-use crate::world::SolverKind;
+use crate::world::{ContactDetection, SolverKind};
 
 mod features;
 mod table;
@@ -73,6 +74,8 @@ pub struct SweepConfig {
     pub contact_hertz: Vec<f32>,
     /// Stacking rates (1/m, 0: the paper's contacts); empty keeps the scene's.
     pub contact_stacking: Vec<f32>,
+    /// When contact points are found (frame: the paper's); empty keeps the scene's.
+    pub contact_detection: Vec<ContactDetection>,
     /// Frames per run; `None` keeps the scene's.
     pub frames: Option<u32>,
     /// Runs per combination, pooled for the median step time.
@@ -91,6 +94,7 @@ impl Default for SweepConfig {
             warm_starts: Vec::new(),
             contact_hertz: Vec::new(),
             contact_stacking: Vec::new(),
+            contact_detection: Vec::new(),
             frames: None,
             repeats: 3,
         }
@@ -116,6 +120,8 @@ pub struct SweepRow {
     pub contact_hertz: f32,
     /// Stacking's rate (1/m; 0 for a peer).
     pub contact_stacking: f32,
+    /// When contact points are found: frame or substep (frame for a peer).
+    pub contact_detection: ContactDetection,
     /// Frame time step (s).
     pub dt: f32,
     /// Iterations per substep.
@@ -148,6 +154,7 @@ impl SweepRow {
             warm_start: 0.0,
             contact_hertz: 0.0,
             contact_stacking: 0.0,
+            contact_detection: ContactDetection::Frame,
             dt,
             iterations,
             step_us: 0.0,
@@ -181,10 +188,16 @@ pub fn combinations(def: &SceneDef, config: &SweepConfig) -> Vec<Overrides> {
     let warm_starts = or_scene(&config.warm_starts, def.contact_warm_start);
     let hertz_list = or_scene(&config.contact_hertz, def.contact_hertz);
     let stacking_list = or_scene(&config.contact_stacking, def.contact_stacking);
-    let mut contact_methods: Vec<(f32, f32, f32)> = Vec::new();
+    let detections = match config.contact_detection.is_empty() {
+        true => vec![def.contact_detection],
+        false => config.contact_detection.clone(),
+    };
+    let mut contact_methods = Vec::new();
     for &w in &warm_starts {
         for &f in &hertz_list {
-            contact_methods.extend(stacking_list.iter().map(|&k| (w, f, k)));
+            for &k in &stacking_list {
+                contact_methods.extend(detections.iter().map(|&d| (w, f, k, d)));
+            }
         }
     }
     let mut all = Vec::new();
@@ -192,7 +205,12 @@ pub fn combinations(def: &SceneDef, config: &SweepConfig) -> Vec<Overrides> {
         for &joint in &config.joints {
             for &solver in &solvers {
                 for &substeps in &substeps {
-                    for &(warm, hertz, stacking) in &contact_methods {
+                    for &(warm, hertz, stacking, detection) in &contact_methods {
+                        // one substep detects once a frame either way: the same method twice
+                        let frame_listed = detections.contains(&ContactDetection::Frame);
+                        if substeps == 1 && detection == ContactDetection::Substep && frame_listed {
+                            continue;
+                        }
                         for &dt in &dts {
                             for &iterations in &config.iterations {
                                 all.push(Overrides {
@@ -203,6 +221,7 @@ pub fn combinations(def: &SceneDef, config: &SweepConfig) -> Vec<Overrides> {
                                     contact_warm_start: Some(warm),
                                     contact_hertz: Some(hertz),
                                     contact_stacking: Some(stacking),
+                                    contact_detection: Some(detection),
                                     dt: Some(dt),
                                     iterations: Some(iterations),
                                     frames: config.frames,
@@ -219,8 +238,9 @@ pub fn combinations(def: &SceneDef, config: &SweepConfig) -> Vec<Overrides> {
 }
 
 /// The method's label: `<spine>/<joint>`, then ` simd` unless scalar, ` x<substeps>` unless
-/// 1, ` warm<w>`, ` soft<f>Hz` and ` stack<k>` unless 0 (so the paper's method keeps its plain
-/// name); the joint flavour, solver, substeps and contact settings are the scene's.
+/// 1, ` warm<w>`, ` soft<f>Hz` and ` stack<k>` unless 0, and ` redetect` with detection every
+/// substep (so the paper's method keeps its plain name); the joint flavour, solver, substeps
+/// and contact settings are the scene's.
 pub fn method_label(spine: SpineKind, def: &SceneDef) -> String {
     let mut label = format!("{spine}/{}", def.joint_flavour);
     if def.solver != SolverKind::Scalar {
@@ -237,6 +257,9 @@ pub fn method_label(spine: SpineKind, def: &SceneDef) -> String {
     }
     if def.contact_stacking != 0.0 {
         label += &format!(" stack{}", def.contact_stacking);
+    }
+    if def.contact_detection != ContactDetection::Frame {
+        label += " redetect";
     }
     label
 }
@@ -264,6 +287,7 @@ pub fn run_one(scene: &Scene, overrides: &Overrides, repeats: u32) -> anyhow::Re
     row.warm_start = def.contact_warm_start;
     row.contact_hertz = def.contact_hertz;
     row.contact_stacking = def.contact_stacking;
+    row.contact_detection = def.contact_detection;
     let frames = def.frames;
     time_and_measure(row, frames, repeats, || Ok(scene.build()?))
 }
@@ -358,6 +382,26 @@ pub fn median(values: &mut [f64]) -> f64 {
 /// its iteration counts; a method at several substeps or solvers has one line for each (the
 /// label carries them), so iterations and substeps can be compared at equal cost.
 pub fn chart(scene: &str, rows: &[SweepRow], machine: &str) -> Chart {
+    Chart {
+        title: format!("{scene}: residual after each frame against time per step ({machine})"),
+        y_label: "mean dislocation per ragdoll (cm)".into(),
+        ..lines(rows, |r| r.mean_dislocation_cm)
+    }
+}
+
+/// The deepest overlap of the shapes over each run (found afresh on each frame's final poses)
+/// against time per step, lines as in [`chart`]; `None` for a sweep without contacts.
+pub fn overlap_chart(scene: &str, rows: &[SweepRow], machine: &str) -> Option<Chart> {
+    rows.iter().any(|r| r.max_overlap_cm > 0.0).then(|| Chart {
+        title: format!("{scene}: deepest overlap found afresh against time per step ({machine})"),
+        y_label: "deepest overlap of the shapes over the run (cm)".into(),
+        ..lines(rows, |r| r.max_overlap_cm)
+    })
+}
+
+/// One line per method (and time step, when several) of `(step_us, y(row))` through its
+/// iteration counts, log-log; the caller names the chart and its y axis.
+fn lines(rows: &[SweepRow], y: impl Fn(&SweepRow) -> f64) -> Chart {
     let several_dts = rows.iter().any(|r| r.dt != rows[0].dt);
     let mut series: Vec<Series> = Vec::new();
     for row in rows.iter().filter(|r| r.failed.is_none()) {
@@ -366,7 +410,7 @@ pub fn chart(scene: &str, rows: &[SweepRow], machine: &str) -> Chart {
         } else {
             row.method.clone()
         };
-        let point = (row.step_us, row.mean_dislocation_cm);
+        let point = (row.step_us, y(row));
         match series.iter_mut().find(|s| s.label == label) {
             Some(s) => s.points.push(point),
             None => series.push(Series {
@@ -376,9 +420,9 @@ pub fn chart(scene: &str, rows: &[SweepRow], machine: &str) -> Chart {
         }
     }
     Chart {
-        title: format!("{scene}: residual after each frame against time per step ({machine})"),
+        title: String::new(),
         x_label: "time per step (us, median)".into(),
-        y_label: "mean dislocation per ragdoll (cm)".into(),
+        y_label: String::new(),
         x_log: true,
         y_log: true,
         series,

@@ -8,7 +8,7 @@ use crate::sleep::Islands;
 use crate::solver::Solver;
 
 pub use crate::solver::{
-    Settings, SolverKind, DEFAULT_MAX_ANGULAR_SPEED, DEFAULT_MAX_LINEAR_SPEED,
+    ContactDetection, Settings, SolverKind, DEFAULT_MAX_ANGULAR_SPEED, DEFAULT_MAX_LINEAR_SPEED,
 };
 
 /// The physics world: bodies, constraints, contacts, settings and the solver's storage.

@@ -7,7 +7,7 @@ use clap::{Args, Parser, Subcommand};
 use crate::constraint::{JointFlavour, TwistMode};
 use crate::ragdoll::SpineKind;
 use crate::sim::Overrides;
-use crate::world::SolverKind;
+use crate::world::{ContactDetection, SolverKind};
 
 use super::parse::{
     non_negative, parse_choice, positive_seconds, positive_speed, positive_stiffness,
@@ -69,7 +69,8 @@ pub enum Command {
         rerun: rerun::clap::RerunArgs,
     },
     /// Speed against accuracy: runs SCENE headless for every spine, joint flavour, time step
-    /// and iteration count -> <out>/<scene>_sweep.csv, .svg (chart) and .rrd.
+    /// and iteration count -> <out>/<scene>_sweep.csv, .svg (chart) and .rrd, and with contacts
+    /// <out>/<scene>_sweep_overlap.svg (the deepest overlap against time).
     Sweep(SweepArgs),
     /// Tuning by eye: every combination of bend and twist settings (and iteration counts) as
     /// one copy of the scene's rod-spine ragdoll on a labelled grid -> <out>/tune.rrd, .csv,
@@ -129,6 +130,10 @@ pub struct SweepArgs {
     /// Stacking rates (1/m, 0: the paper's contacts), comma separated; default the scene's.
     #[arg(long, value_delimiter = ',', value_parser = stacking_rate)]
     pub contact_stacking: Vec<f32>,
+    /// When contact points are found, comma separated: frame (the paper's), substep; default
+    /// the scene's.
+    #[arg(long, value_delimiter = ',', value_parser = parse_choice::<ContactDetection>)]
+    pub contact_detection: Vec<ContactDetection>,
     /// Worker threads of the solver; default rayon's (one per core).
     #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
     pub threads: Option<u64>,
@@ -182,6 +187,10 @@ pub struct OverrideArgs {
     /// other's height above it (0: the paper's contact; default the scene's `contact_stacking`).
     #[arg(long, value_parser = stacking_rate)]
     pub contact_stacking: Option<f32>,
+    /// When contact points are found: frame (once a frame, the paper's) or substep (afresh at
+    /// every substep); default the scene's `contact_detection`.
+    #[arg(long, value_parser = parse_choice::<ContactDetection>)]
+    pub contact_detection: Option<ContactDetection>,
     /// Joint damping, a dashpot across every joint (N m s/rad; 0: none, the paper's; default
     /// the scene's `joint_damping`).
     #[arg(long, value_parser = non_negative)]
@@ -240,6 +249,7 @@ impl From<&OverrideArgs> for Overrides {
             contact_hertz: a.contact_hertz,
             contact_damping_ratio: a.contact_damping_ratio,
             contact_stacking: a.contact_stacking,
+            contact_detection: a.contact_detection,
             joint_damping: a.joint_damping,
             dt: a.dt,
             frames: a.frames,

@@ -100,6 +100,7 @@ fn dispatch_command(cli: Cli, matches: &ArgMatches) -> anyhow::Result<()> {
                 warm_starts: args.contact_warm_start,
                 contact_hertz: args.contact_hertz,
                 contact_stacking: args.contact_stacking,
+                contact_detection: args.contact_detection,
                 frames: args.frames,
                 repeats: args.repeats,
             };

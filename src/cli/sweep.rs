@@ -50,7 +50,7 @@ pub(super) fn sweep(
     let mut rows = Vec::with_capacity(combinations.len());
     for overrides in &combinations {
         progress.show(&format!(
-            "{}/{} {} dt={:.4} substeps={} warm={} soft={}Hz stack={} iterations={}",
+            "{}/{} {} dt={:.4} substeps={} warm={} soft={}Hz stack={} detect={} iterations={}",
             overrides.spine.unwrap_or_default(),
             overrides.joint_flavour.unwrap_or_default(),
             overrides.solver.unwrap_or(scene.def.solver),
@@ -59,6 +59,7 @@ pub(super) fn sweep(
             (overrides.contact_warm_start).unwrap_or(scene.def.contact_warm_start),
             (overrides.contact_hertz).unwrap_or(scene.def.contact_hertz),
             (overrides.contact_stacking).unwrap_or(scene.def.contact_stacking),
+            (overrides.contact_detection).unwrap_or(scene.def.contact_detection),
             overrides.iterations.unwrap_or(scene.def.iterations)
         ));
         rows.push(sweep::run_one(&scene, overrides, config.repeats)?);
@@ -165,6 +166,16 @@ fn write_outputs(
         svg.display(),
         rrd.display()
     );
+    // with contacts, the deepest overlap against time too: where a method lets shapes sink
+    if let Some(chart) = crate::sweep::overlap_chart(name, rows, machine) {
+        let svg = out.join(format!("{stem}_overlap.svg"));
+        std::fs::write(&svg, chart.to_svg())
+            .with_context(|| format!("cannot write {}", svg.display()))?;
+        let png = out.join(format!("{stem}_overlap.png"));
+        std::fs::write(&png, chart.to_png()?)
+            .with_context(|| format!("cannot write {}", png.display()))?;
+        println!("  -> {} (and .png)", svg.display());
+    }
     Ok(())
 }
 

@@ -94,6 +94,7 @@ fn settings(d: &SceneDef) -> Settings {
         max_penetration: d.max_penetration,
         contacts: d.contacts,
         contact_margin: d.contact_margin,
+        contact_detection: d.contact_detection,
         contact_push_speed: d.contact_push_speed,
         contact_warm_start: d.contact_warm_start,
         contact_hertz: d.contact_hertz,

@@ -4,7 +4,7 @@
 use super::SceneDef;
 use crate::constraint::{JointFlavour, TwistMode};
 use crate::ragdoll::SpineKind;
-use crate::world::SolverKind;
+use crate::world::{ContactDetection, SolverKind};
 
 /// Overrides of a scene file's settings (the command line's, or a variant's); `None` keeps
 /// the file's.
@@ -28,6 +28,8 @@ pub struct Overrides {
     pub contact_damping_ratio: Option<f32>,
     /// Contact mass scaling by height (1/m); 0 is the paper's contact.
     pub contact_stacking: Option<f32>,
+    /// When contact points are found: once a frame or every substep.
+    pub contact_detection: Option<ContactDetection>,
     /// Rotational dashpot across every joint and rod (N m s/rad).
     pub joint_damping: Option<f32>,
     /// Frame time step (s).
@@ -72,6 +74,7 @@ impl Overrides {
         set(&mut def.contact_hertz, self.contact_hertz);
         set(&mut def.contact_damping_ratio, self.contact_damping_ratio);
         set(&mut def.contact_stacking, self.contact_stacking);
+        set(&mut def.contact_detection, self.contact_detection);
         set(&mut def.joint_damping, self.joint_damping);
         set(&mut def.dt, self.dt);
         set(&mut def.frames, self.frames);

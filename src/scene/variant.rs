@@ -3,7 +3,7 @@
 
 use super::{Overrides, Scene, SceneDef};
 use crate::constraint::JointFlavour;
-use crate::world::SolverKind;
+use crate::world::{ContactDetection, SolverKind};
 use serde::Deserialize;
 
 /// One `[[variant]]`: a name and the settings it changes (the rest are the scene's). The main
@@ -34,6 +34,8 @@ pub struct VariantDef {
     pub contact_damping_ratio: Option<f32>,
     /// Stacking rate (1/m; 0: the paper's contact).
     pub contact_stacking: Option<f32>,
+    /// When contact points are found: frame (the paper's) or substep.
+    pub contact_detection: Option<ContactDetection>,
     /// Joint damping (N m s/rad).
     pub joint_damping: Option<f32>,
 }
@@ -52,6 +54,7 @@ impl VariantDef {
             contact_hertz: self.contact_hertz,
             contact_damping_ratio: self.contact_damping_ratio,
             contact_stacking: self.contact_stacking,
+            contact_detection: self.contact_detection,
             joint_damping: self.joint_damping,
             ..Default::default()
         }

@@ -12,14 +12,17 @@
 //! constraint solve than more iterations, Macklin et al. 2019, "Small Steps in Physics
 //! Simulation"):
 //! 1. contact detection, once per frame, at the current poses (speculative: points are made
-//!    within a margin grown by how far the bodies may travel in the whole frame);
+//!    within a margin grown by how far the bodies may travel in the whole frame); with
+//!    [`ContactDetection::Substep`] it moves to the start of each substep (step 3) instead;
 //! 2. prepare: flatten joints, rods and contact points into rows stored per kind, and colour
 //!    each kind's rows so rows of one colour share no movable body ([`graph`]). Joints and
 //!    rods keep their stored order (solving colour by colour is exactly the paper's sequential
 //!    sweep); contact points, whose order is only the broad phase's, take the greedy colouring
 //!    (few, full colours). Either way both solvers sweep the same reordered rows, so the scalar
 //!    and SIMD solvers compute the same thing;
-//! 3. for each substep:
+//! 3. for each substep (with [`ContactDetection::Substep`], after contact detection at the
+//!    substep's starting poses, with the reach of one substep, and the points coloured as in
+//!    step 2; points found again keep their impulses and anchors, as from frame to frame):
 //!    1. apply gravity and external forces to the linear velocities; update angular
 //!       velocities with the gyroscopic term (implicit, see [`gyroscopic_update`]); apply
 //!       damping, if any;
@@ -79,7 +82,7 @@ use rayon::prelude::*;
 pub use rows::Row;
 use rows::{solve_colours, sweep};
 pub use settings::{
-    Settings, SolverKind, DEFAULT_CONTACT_PUSH_SPEED, DEFAULT_MAX_ANGULAR_SPEED,
+    ContactDetection, Settings, SolverKind, DEFAULT_CONTACT_PUSH_SPEED, DEFAULT_MAX_ANGULAR_SPEED,
     DEFAULT_MAX_LINEAR_SPEED, DEFAULT_MAX_PENETRATION, DEFAULT_MAX_SEPARATION,
 };
 use std::time::Instant;
@@ -131,28 +134,35 @@ impl Solver {
         let h = dt / substeps as f32;
         self.profile = Profile::default();
         let mut clock = Instant::now();
+        let margin = settings.contact_margin;
+        let detect_each_substep =
+            settings.contacts && settings.contact_detection == ContactDetection::Substep;
         // 1. contacts at the current poses, once per frame
-        if settings.contacts {
-            contacts.detect(bodies, constraints, dt, settings.contact_margin);
+        if settings.contacts && !detect_each_substep {
+            contacts.detect(bodies, constraints, dt, margin);
         }
         self.profile.detect = lap(&mut clock);
         // 2. prepare: rows per kind, coloured
-        self.prepare(bodies, constraints, contacts, settings.joint_damping > 0.0);
+        self.prepare(bodies, constraints, settings.joint_damping > 0.0);
+        if !detect_each_substep {
+            self.colour_contacts(contacts);
+        }
         self.profile.prepare = lap(&mut clock);
         // 3. substeps
         for _ in 0..substeps {
+            // 3 (detection every substep): contacts afresh at the substep's starting poses
+            if detect_each_substep {
+                contacts.detect(bodies, constraints, h, margin);
+                self.colour_contacts(contacts);
+                self.profile.detect += lap(&mut clock);
+            }
             self.substep(settings, h, bodies, contacts);
+            clock = Instant::now();
         }
     }
 
-    /// Step 2: rows per kind, coloured.
-    fn prepare(
-        &mut self,
-        bodies: &[Body],
-        constraints: &[Constraint],
-        contacts: &mut Contacts,
-        damped: bool,
-    ) {
+    /// Step 2: joint, rod and damper rows, coloured.
+    fn prepare(&mut self, bodies: &[Body], constraints: &[Constraint], damped: bool) {
         self.movable.clear();
         self.movable
             .extend(bodies.iter().map(Body::is_awake_dynamic));
@@ -197,12 +207,16 @@ impl Solver {
             movable,
             |r| (r.body_a, r.body_b),
         );
+    }
+
+    /// Step 2 (or 3's start, detecting every substep): the contact points, coloured.
+    fn colour_contacts(&mut self, contacts: &mut Contacts) {
         self.colouring.colour(
             Order::Greedy,
             &mut contacts.points,
             &mut self.contact_scratch,
             &mut self.contact_colours,
-            movable,
+            &self.movable,
             |p| (p.body_a.0, p.body_b.0),
         );
     }

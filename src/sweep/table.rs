@@ -2,9 +2,10 @@
 //! the [`crate::sweep`] module docs).
 
 use super::SweepRow;
+use crate::world::ContactDetection;
 
 const HEADER: &str =
-    "method,spine,joint,solver,substeps,warm_start,contact_hertz,contact_stacking,dt,iterations,step_us,\
+    "method,spine,joint,solver,substeps,warm_start,contact_hertz,contact_stacking,contact_detection,dt,iterations,step_us,\
 mean_dislocation_cm,max_dislocation_cm,mean_angular_rad,max_angular_rad,max_overlap_cm,failed";
 
 /// The rows as CSV text, header first (see the [`crate::sweep`] module docs for the columns).
@@ -21,6 +22,7 @@ pub fn to_csv(rows: &[SweepRow]) -> String {
                 r.warm_start.to_string(),
                 r.contact_hertz.to_string(),
                 r.contact_stacking.to_string(),
+                r.contact_detection.to_string(),
                 r.dt.to_string(),
                 r.iterations.to_string(),
                 format!("{:.3}", r.step_us),
@@ -36,7 +38,8 @@ pub fn to_csv(rows: &[SweepRow]) -> String {
 }
 
 /// Reads back what [`to_csv`] wrote (columns as in the [`crate::sweep`] module's table: method,
-/// spine, joint, solver, substeps, warm_start, contact_hertz, contact_stacking, dt, iterations,
+/// spine, joint, solver, substeps, warm_start, contact_hertz, contact_stacking, contact_detection,
+/// dt, iterations,
 /// step_us, the four residuals, max_overlap_cm, failed); errors name the line and the column.
 pub fn parse_csv(text: &str) -> anyhow::Result<Vec<SweepRow>> {
     use anyhow::Context as _;
@@ -57,15 +60,22 @@ pub fn parse_csv(text: &str) -> anyhow::Result<Vec<SweepRow>> {
             warm_start: number(5)? as f32,
             contact_hertz: number(6)? as f32,
             contact_stacking: number(7)? as f32,
-            dt: number(8)? as f32,
-            iterations: number(9)? as u32,
-            step_us: number(10)?,
-            mean_dislocation_cm: number(11)?,
-            max_dislocation_cm: number(12)?,
-            mean_angular_rad: number(13)?,
-            max_angular_rad: number(14)?,
-            max_overlap_cm: number(15)?,
-            failed: Some(fields[16].to_string()).filter(|s| !s.is_empty()),
+            contact_detection: match &fields[8] {
+                "frame" => ContactDetection::Frame,
+                "substep" => ContactDetection::Substep,
+                other => anyhow::bail!(
+                    "line {line}: column contact_detection: expected frame or substep, got {other:?}"
+                ),
+            },
+            dt: number(9)? as f32,
+            iterations: number(10)? as u32,
+            step_us: number(11)?,
+            mean_dislocation_cm: number(12)?,
+            max_dislocation_cm: number(13)?,
+            mean_angular_rad: number(14)?,
+            max_angular_rad: number(15)?,
+            max_overlap_cm: number(16)?,
+            failed: Some(fields[17].to_string()).filter(|s| !s.is_empty()),
         });
     }
     Ok(rows)

@@ -7,7 +7,7 @@ use serde::Deserialize;
 use super::VariantDef;
 use crate::constraint::JointFlavour;
 use crate::ragdoll::SpineKind;
-use crate::world::{Settings, SolverKind};
+use crate::world::{ContactDetection, Settings, SolverKind};
 
 mod bodies;
 mod ragdolls;
@@ -95,6 +95,10 @@ pub struct SceneDef {
     /// Contact points are made this far (m) before the surfaces touch.
     #[serde(default = "default_contact_margin")]
     pub contact_margin: f32,
+    /// When contact points are found: `frame` (the default, the paper's method) or afresh at
+    /// every `substep`.
+    #[serde(default)]
+    pub contact_detection: ContactDetection,
     /// Deep overlap is pushed out no faster than this (m/s, Box2D's `maxContactPushSpeed`);
     /// `inf` (the default) pushes it out at once, the paper-era projection.
     #[serde(default = "default_contact_push_speed")]
