@@ -10,8 +10,8 @@ use crate::sim::Overrides;
 use crate::world::{ContactDetection, SolverKind};
 
 use super::parse::{
-    non_negative, parse_choice, positive_seconds, positive_speed, positive_stiffness,
-    stacking_rate, unit_interval,
+    non_negative, parse_choice, positive_angular_speed, positive_seconds, positive_speed,
+    positive_stiffness, stacking_rate, unit_interval,
 };
 use super::tune;
 
@@ -191,6 +191,10 @@ pub struct OverrideArgs {
     /// every substep); default the scene's `contact_detection`.
     #[arg(long, value_parser = parse_choice::<ContactDetection>)]
     pub contact_detection: Option<ContactDetection>,
+    /// Each substep a faster body's spin is scaled down to this angular speed (rad/s), as
+    /// Jolt, PhysX and Box2D do; inf: none, the paper's (default the scene's).
+    #[arg(long, value_parser = positive_angular_speed)]
+    pub angular_speed_limit: Option<f32>,
     /// Joint damping, a dashpot across every joint (N m s/rad; 0: none, the paper's; default
     /// the scene's `joint_damping`).
     #[arg(long, value_parser = non_negative)]
@@ -250,6 +254,7 @@ impl From<&OverrideArgs> for Overrides {
             contact_damping_ratio: a.contact_damping_ratio,
             contact_stacking: a.contact_stacking,
             contact_detection: a.contact_detection,
+            angular_speed_limit: a.angular_speed_limit,
             joint_damping: a.joint_damping,
             dt: a.dt,
             frames: a.frames,

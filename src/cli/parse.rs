@@ -53,6 +53,15 @@ pub(super) fn positive_speed(s: &str) -> Result<f32, String> {
     }
 }
 
+/// A positive angular speed (rad/s), or inf for no limit.
+pub(super) fn positive_angular_speed(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if v > 0.0 => Ok(v),
+        Ok(v) => Err(format!("must be a positive angular speed in rad/s (or inf), got {v}")),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
 /// A contact stacking rate (1/m) from 0 to the scene bound.
 pub(super) fn stacking_rate(s: &str) -> Result<f32, String> {
     let max = crate::scene::MAX_CONTACT_STACKING;

@@ -90,6 +90,7 @@ fn settings(d: &SceneDef) -> Settings {
         solver: d.solver,
         max_linear_speed: d.max_speed,
         max_angular_speed: d.max_angular_speed,
+        angular_speed_limit: d.angular_speed_limit,
         max_separation: d.max_separation,
         max_penetration: d.max_penetration,
         contacts: d.contacts,

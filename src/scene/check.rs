@@ -206,6 +206,14 @@ fn check_settings(d: &SceneDef, prefix: &[Seg]) -> Result<(), Failure> {
             "must be positive".into(),
         ),
         (
+            "angular_speed_limit",
+            d.angular_speed_limit > 0.0,
+            format!(
+                "must be a positive angular speed in rad/s (or inf), got {}",
+                d.angular_speed_limit
+            ),
+        ),
+        (
             "contact_push_speed",
             d.contact_push_speed > 0.0,
             format!(

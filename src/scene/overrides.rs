@@ -30,6 +30,8 @@ pub struct Overrides {
     pub contact_stacking: Option<f32>,
     /// When contact points are found: once a frame or every substep.
     pub contact_detection: Option<ContactDetection>,
+    /// Angular speed a body's spin is scaled down to each substep (rad/s; inf: none).
+    pub angular_speed_limit: Option<f32>,
     /// Rotational dashpot across every joint and rod (N m s/rad).
     pub joint_damping: Option<f32>,
     /// Frame time step (s).
@@ -75,6 +77,7 @@ impl Overrides {
         set(&mut def.contact_damping_ratio, self.contact_damping_ratio);
         set(&mut def.contact_stacking, self.contact_stacking);
         set(&mut def.contact_detection, self.contact_detection);
+        set(&mut def.angular_speed_limit, self.angular_speed_limit);
         set(&mut def.joint_damping, self.joint_damping);
         set(&mut def.dt, self.dt);
         set(&mut def.frames, self.frames);

@@ -36,6 +36,8 @@ pub struct VariantDef {
     pub contact_stacking: Option<f32>,
     /// When contact points are found: frame (the paper's) or substep.
     pub contact_detection: Option<ContactDetection>,
+    /// Angular speed limit (rad/s; inf: none, the paper's).
+    pub angular_speed_limit: Option<f32>,
     /// Joint damping (N m s/rad).
     pub joint_damping: Option<f32>,
 }
@@ -55,6 +57,7 @@ impl VariantDef {
             contact_damping_ratio: self.contact_damping_ratio,
             contact_stacking: self.contact_stacking,
             contact_detection: self.contact_detection,
+            angular_speed_limit: self.angular_speed_limit,
             joint_damping: self.joint_damping,
             ..Default::default()
         }

@@ -9,7 +9,8 @@ use crate::math::{quat_from_rotation_vector, rotation_vector, skew, Mat3, Vec3};
 /// Fixed-point passes of the gyroscopic update, at most.
 pub const GYROSCOPIC_PASSES: u32 = 4;
 
-/// Step 3.1: gravity, external force, the gyroscopic term and damping.
+/// Step 3.1: gravity, external force, the gyroscopic term, damping, and the angular speed
+/// limit if any.
 pub(super) fn integrate_velocity(body: &mut Body, settings: &Settings, h: f32) {
     if !body.is_awake_dynamic() {
         return;
@@ -23,6 +24,10 @@ pub(super) fn integrate_velocity(body: &mut Body, settings: &Settings, h: f32) {
     body.angular_velocity =
         gyroscopic_update(body, h, converged) / (1.0 + h * settings.angular_damping);
     body.linear_velocity /= 1.0 + h * settings.linear_damping;
+    let spin = body.angular_velocity.length();
+    if spin > settings.angular_speed_limit {
+        body.angular_velocity *= settings.angular_speed_limit / spin;
+    }
 }
 
 /// Step 3.2: the preview pose of a body as the hot solver body. Fixed bodies stay put.

@@ -25,7 +25,8 @@
 //!    step 2; points found again keep their impulses and anchors, as from frame to frame):
 //!    1. apply gravity and external forces to the linear velocities; update angular
 //!       velocities with the gyroscopic term (implicit, see [`gyroscopic_update`]); apply
-//!       damping, if any;
+//!       damping, if any, then the angular speed limit, if any
+//!       ([`Settings::angular_speed_limit`]);
 //!    2. predict the preview poses `p* = p + h v`, `q* = exp(h w) q` (exact exponential map)
 //!       into the hot [`SolverBody`] array, with each body's world inverse inertia there;
 //!       take the rows' per-substep constants (the limits' starting twist; a stiff rod's

@@ -70,6 +70,11 @@ pub struct Settings {
     pub max_linear_speed: f32,
     /// A dynamic body spinning faster than this (rad/s) counts as exploded.
     pub max_angular_speed: f32,
+    /// Each substep, a faster body's angular velocity is scaled down to this speed (rad/s)
+    /// before it moves: Jolt's `mMaxAngularVelocity`, PhysX's `maxAngularVelocity`, Box2D's
+    /// `maxRotation` per step. Infinity (the default) is the paper's method: no limit, and a
+    /// spin-up in a pile runs into the explosion bound [`Settings::max_angular_speed`] instead.
+    pub angular_speed_limit: f32,
     /// A joint or rod whose hard constraints are further apart than this (m) after a frame
     /// counts as broken apart.
     pub max_separation: f32,
@@ -120,6 +125,7 @@ impl Default for Settings {
             solver: SolverKind::Scalar,
             max_linear_speed: DEFAULT_MAX_LINEAR_SPEED,
             max_angular_speed: DEFAULT_MAX_ANGULAR_SPEED,
+            angular_speed_limit: f32::INFINITY,
             max_separation: DEFAULT_MAX_SEPARATION,
             max_penetration: DEFAULT_MAX_PENETRATION,
             contacts: false,

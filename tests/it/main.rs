@@ -25,6 +25,7 @@ mod scalar_simd;
 mod scene_errors;
 mod scene_fuzz;
 mod skeleton;
+mod spin_limit;
 mod stress;
 mod substeps;
 mod sweep;

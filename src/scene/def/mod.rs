@@ -58,6 +58,10 @@ pub struct SceneDef {
     /// Explosion bound on angular speed (rad/s); past it the run stops.
     #[serde(default = "default_max_angular_speed")]
     pub max_angular_speed: f32,
+    /// Each substep a faster body's spin is scaled down to this angular speed (rad/s), as
+    /// game engines do; `inf` (the default) is the paper's method, no limit.
+    #[serde(default = "default_angular_speed_limit")]
+    pub angular_speed_limit: f32,
     /// A joint or rod apart by more than this (m) after a frame stops the run.
     #[serde(default = "default_max_separation")]
     pub max_separation: f32,
@@ -191,6 +195,10 @@ fn default_max_speed() -> f32 {
 }
 fn default_max_angular_speed() -> f32 {
     Settings::default().max_angular_speed
+}
+
+fn default_angular_speed_limit() -> f32 {
+    Settings::default().angular_speed_limit
 }
 fn default_max_separation() -> f32 {
     Settings::default().max_separation
