@@ -6,6 +6,7 @@ use clap::{Args, Parser, Subcommand};
 
 use crate::constraint::{JointFlavour, TwistMode};
 use crate::ragdoll::SpineKind;
+use crate::scene::{RodOverrides, SoftnessOverride};
 use crate::sim::Overrides;
 use crate::world::{ContactDetection, SolverKind};
 
@@ -260,13 +261,20 @@ impl From<&OverrideArgs> for Overrides {
             frames: a.frames,
             spine: a.spine,
             joint_flavour: a.joint,
-            alpha_b: a.alpha_b,
-            alpha_t: a.alpha_t,
-            bend_stiffness: a.bend_stiffness,
-            bend_damping: a.bend_damping,
-            twist_stiffness: a.twist_stiffness,
-            twist_damping: a.twist_damping,
-            twist: a.twist,
+            rod: RodOverrides {
+                bend: SoftnessOverride {
+                    alpha: a.alpha_b,
+                    stiffness: a.bend_stiffness,
+                    damping: a.bend_damping,
+                },
+                twist: SoftnessOverride {
+                    alpha: a.alpha_t,
+                    stiffness: a.twist_stiffness,
+                    damping: a.twist_damping,
+                },
+                twist_measure: a.twist,
+            },
+            name: None,
             record_every: a.record_every,
         }
     }

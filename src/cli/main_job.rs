@@ -187,8 +187,8 @@ pub(super) fn run_all(
 /// spine.
 fn variants(scene: &Scene, overrides: &Overrides) -> anyhow::Result<Vec<Scene>> {
     let mut methods = vec![scene.clone()];
-    for variant in &scene.def.variant {
-        let mut method = scene.variant(&variant.name)?;
+    for name in scene.variant_names() {
+        let mut method = scene.variant(name)?;
         overrides.apply(&mut method.def);
         methods.push(method);
     }

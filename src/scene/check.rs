@@ -115,9 +115,12 @@ impl Scene {
         }
         let mut variants: Vec<&str> = Vec::new();
         for (i, v) in d.variant.iter().enumerate() {
-            variant::check_variant_name(&v.name, &variants)
-                .map_err(|m| (at("variant", i, "name"), m))?;
-            variants.push(&v.name);
+            let name = v.name.as_deref();
+            variant::check_variant_name(name, &variants).map_err(|m| match name {
+                Some(_) => (at("variant", i, "name"), m),
+                None => (vec![Seg::Key("variant".into()), Seg::Index(i)], m),
+            })?;
+            variants.extend(name);
             let prefix = [Seg::Key("variant".into()), Seg::Index(i)];
             check_settings(&v.applied_to(d), &prefix)?;
         }

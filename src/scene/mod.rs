@@ -27,8 +27,7 @@ mod variant;
 pub use build::LOOSE_GROUP;
 pub use check::MAX_CONTACT_STACKING;
 pub use def::*;
-pub use overrides::Overrides;
-pub use variant::VariantDef;
+pub use overrides::{Overrides, RodOverrides, SoftnessOverride};
 
 use std::path::{Path, PathBuf};
 

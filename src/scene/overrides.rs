@@ -1,15 +1,25 @@
 //! Changes to a scene's method on top of its file: the command line's overrides, and the
-//! method variants a scene file lists for the main job ([`super::VariantDef`]).
+//! method variants (`[[variant]]`) a scene file lists for the main job, read into the same type.
+
+use serde::Deserialize;
 
 use super::SceneDef;
 use crate::constraint::{JointFlavour, TwistMode};
 use crate::ragdoll::SpineKind;
 use crate::world::{ContactDetection, SolverKind};
 
-/// Overrides of a scene file's settings (the command line's, or a variant's); `None` keeps
-/// the file's.
-#[derive(Clone, Debug, Default)]
+/// Overrides of a scene file's settings: the command line's, or a `[[variant]]`'s, which is
+/// read straight into this type; `None` keeps the file's.
+///
+/// A `[[variant]]` names itself and may set the method fields, `iterations` through
+/// `angular_speed_limit`. The fields marked "command line only" are not read from a scene file,
+/// so a variant that sets one is refused as an unknown field, at its line.
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Overrides {
+    /// The `[[variant]]`'s name: lower-case letters, digits and underscores, unique in the
+    /// scene (it names a recording). `None` for the command line's overrides.
+    pub name: Option<String>,
     /// Solver iterations per substep.
     pub iterations: Option<u32>,
     /// Substeps per frame.
@@ -18,6 +28,9 @@ pub struct Overrides {
     pub solver: Option<SolverKind>,
     /// Whether islands of still bodies fall asleep.
     pub sleep: Option<bool>,
+    /// Flavour of every ball-and-socket joint: the scene's default, every ragdoll's and every
+    /// `[[joint]]`'s.
+    pub joint_flavour: Option<JointFlavour>,
     /// Speed limit on pushing out deep overlap (m/s).
     pub contact_push_speed: Option<f32>,
     /// Fraction of their last impulses contacts start each substep with (0 to 1).
@@ -30,37 +43,48 @@ pub struct Overrides {
     pub contact_stacking: Option<f32>,
     /// When contact points are found: once a frame or every substep.
     pub contact_detection: Option<ContactDetection>,
-    /// Angular speed a body's spin is scaled down to each substep (rad/s; inf: none).
-    pub angular_speed_limit: Option<f32>,
     /// Rotational dashpot across every joint and rod (N m s/rad).
     pub joint_damping: Option<f32>,
-    /// Frame time step (s).
+    /// Angular speed a body's spin is scaled down to each substep (rad/s; inf: none).
+    pub angular_speed_limit: Option<f32>,
+    /// Frame time step (s). Command line only.
+    #[serde(skip)]
     pub dt: Option<f32>,
-    /// Frames to run.
+    /// Frames to run. Command line only.
+    #[serde(skip)]
     pub frames: Option<u32>,
-    /// Spine of every ragdoll.
+    /// Spine of every ragdoll. Command line only (the main job runs a variant per spine).
+    #[serde(skip)]
     pub spine: Option<SpineKind>,
-    /// Flavour of every ball-and-socket joint: the scene's default, every ragdoll's and every
-    /// `[[joint]]`'s.
-    pub joint_flavour: Option<JointFlavour>,
-    /// Bending relaxation alpha_b (eq. 11) of every rod and rod spine; clears their bend
-    /// stiffness and damping.
-    pub alpha_b: Option<f32>,
-    /// Twisting relaxation alpha_t (eq. 12-13) of every rod and rod spine; clears their twist
-    /// stiffness and damping.
-    pub alpha_t: Option<f32>,
-    /// Rod stiffness in physical units (each replaces its alpha on every rod and rod spine).
-    pub bend_stiffness: Option<f32>,
-    /// Damping of the bend rate (N m s/rad) of every rod and rod spine.
-    pub bend_damping: Option<f32>,
-    /// Twisting stiffness (N m/rad) of every rod and rod spine; clears their alpha_t.
-    pub twist_stiffness: Option<f32>,
-    /// Damping of the twist rate (N m s/rad) of every rod and rod spine.
-    pub twist_damping: Option<f32>,
-    /// Twist measure (exact, or the paper's eq. 12) of every rod and rod spine.
-    pub twist: Option<TwistMode>,
-    /// Record every N-th frame.
+    /// Softness and twist measure of every rod and rod spine. Command line only.
+    #[serde(skip)]
+    pub rod: RodOverrides,
+    /// Record every N-th frame. Command line only.
+    #[serde(skip)]
     pub record_every: Option<u32>,
+}
+
+/// The command line's settings of every rod and rod spine.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct RodOverrides {
+    /// Bending: alpha_b (eq. 11), or a stiffness (N m/rad) and the damping of the bend rate.
+    pub bend: SoftnessOverride,
+    /// Twisting: alpha_t (eq. 12-13), or a stiffness and the damping of the twist rate.
+    pub twist: SoftnessOverride,
+    /// Twist measure (exact, or the paper's eq. 12).
+    pub twist_measure: Option<TwistMode>,
+}
+
+/// One rod part's softness as the command line gives it: an alpha given replaces the file's
+/// stiffness and damping, a stiffness given replaces its alpha, a damping given its damping.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SoftnessOverride {
+    /// Relaxation in [0, 1] per iteration (the paper's alpha).
+    pub alpha: Option<f32>,
+    /// Stiffness (N m/rad), solved in compliance form.
+    pub stiffness: Option<f32>,
+    /// Damping of the rate (N m s/rad), with a stiffness.
+    pub damping: Option<f32>,
 }
 
 impl Overrides {
@@ -92,10 +116,13 @@ impl Overrides {
                 .for_each(|r| r.joint_flavour = Some(flavour));
             def.joint.iter_mut().for_each(|j| j.flavour = Some(flavour));
         }
-        let bend = [self.alpha_b, self.bend_stiffness, self.bend_damping];
-        let twist = [self.alpha_t, self.twist_stiffness, self.twist_damping];
+        let RodOverrides {
+            bend,
+            twist,
+            twist_measure,
+        } = self.rod;
         for r in &mut def.ragdoll {
-            r.twist = self.twist.or(r.twist);
+            r.twist = twist_measure.or(r.twist);
             soften(
                 bend,
                 &mut r.alpha_b,
@@ -110,7 +137,7 @@ impl Overrides {
             );
         }
         for r in &mut def.rod {
-            r.twist = self.twist.unwrap_or(r.twist);
+            r.twist = twist_measure.unwrap_or(r.twist);
             let (mut alpha_b, mut alpha_t) = (Some(r.alpha_b), Some(r.alpha_t));
             soften(
                 bend,
@@ -133,13 +160,14 @@ impl Overrides {
     pub fn check_applied(&self, def: &SceneDef) -> Result<(), String> {
         let rod_spines = || def.ragdoll.iter().filter(|r| r.spine == SpineKind::Rod);
         let has_rods = rod_spines().next().is_some() || !def.rod.is_empty();
+        let RodOverrides { bend, twist, .. } = self.rod;
         let rod_flags = [
-            ("--alpha-b", self.alpha_b.is_some()),
-            ("--alpha-t", self.alpha_t.is_some()),
-            ("--bend-stiffness", self.bend_stiffness.is_some()),
-            ("--twist-stiffness", self.twist_stiffness.is_some()),
-            ("--bend-damping", self.bend_damping.is_some()),
-            ("--twist-damping", self.twist_damping.is_some()),
+            ("--alpha-b", bend.alpha.is_some()),
+            ("--alpha-t", twist.alpha.is_some()),
+            ("--bend-stiffness", bend.stiffness.is_some()),
+            ("--twist-stiffness", twist.stiffness.is_some()),
+            ("--bend-damping", bend.damping.is_some()),
+            ("--twist-damping", twist.damping.is_some()),
         ];
         if let Some((flag, _)) = rod_flags.iter().find(|(_, given)| *given && !has_rods) {
             return Err(format!(
@@ -151,36 +179,34 @@ impl Overrides {
             || def.rod.iter().any(|r| r.bend_stiffness.is_some());
         let twist_stiff = rod_spines().any(|r| r.twist_stiffness.is_some())
             || def.rod.iter().any(|r| r.twist_stiffness.is_some());
-        if self.bend_damping.is_some() && !bend_stiff {
+        if bend.damping.is_some() && !bend_stiff {
             return Err(
                 "--bend-damping damps a bend stiffness, and no rod has one: add --bend-stiffness"
                     .into(),
             );
         }
-        if self.twist_damping.is_some() && !twist_stiff {
+        if twist.damping.is_some() && !twist_stiff {
             return Err("--twist-damping damps a twist stiffness, and no rod has one: add --twist-stiffness".into());
         }
         Ok(())
     }
 }
 
-/// One rod part's softness (bend or twist) under the overrides `[alpha, stiffness, damping]`
-/// (`None`: not given): an alpha given replaces the stiffness and its damping, a stiffness
-/// given replaces the alpha, a damping given replaces the damping.
+/// One rod part's softness (bend or twist) under `new` (see [`SoftnessOverride`]).
 fn soften(
-    [new_alpha, new_stiffness, new_damping]: [Option<f32>; 3],
+    new: SoftnessOverride,
     alpha: &mut Option<f32>,
     stiffness: &mut Option<f32>,
     damping: &mut Option<f32>,
 ) {
-    if new_alpha.is_some() {
-        (*alpha, *stiffness, *damping) = (new_alpha, None, None);
+    if new.alpha.is_some() {
+        (*alpha, *stiffness, *damping) = (new.alpha, None, None);
     }
-    if new_stiffness.is_some() {
-        (*alpha, *stiffness) = (None, new_stiffness);
+    if new.stiffness.is_some() {
+        (*alpha, *stiffness) = (None, new.stiffness);
     }
-    if new_damping.is_some() {
-        *damping = new_damping;
+    if new.damping.is_some() {
+        *damping = new.damping;
     }
 }
 

@@ -7,7 +7,7 @@
 use rodlab::body::{Body, BodyKind};
 use rodlab::constraint::{Constraint, LengthCorrection, Rod, Stiffness};
 use rodlab::math::{Quat, Vec3};
-use rodlab::scene::Scene;
+use rodlab::scene::{RodOverrides, Scene, SoftnessOverride};
 use rodlab::shape::{Axis, Shape};
 use rodlab::sim::Overrides;
 use rodlab::world::{Settings, World};
@@ -216,15 +216,30 @@ fn spread(softness: &Overrides, what: &str) -> f32 {
 #[test]
 fn passive_bending_settles_at_the_same_bend_at_any_budget_with_stiffness_not_with_alpha() {
     let stiff = Overrides {
-        bend_stiffness: Some(200.0),
-        bend_damping: Some(20.0),
-        twist_stiffness: Some(100.0),
-        twist_damping: Some(5.0),
+        rod: RodOverrides {
+            bend: SoftnessOverride {
+                stiffness: Some(200.0),
+                damping: Some(20.0),
+                ..Default::default()
+            },
+            twist: SoftnessOverride {
+                stiffness: Some(100.0),
+                damping: Some(5.0),
+                ..Default::default()
+            },
+            ..Default::default()
+        },
         ..Default::default()
     };
     let stiffness_spread = spread(&stiff, "bend_stiffness 200");
     let alpha = Overrides {
-        alpha_b: Some(0.005),
+        rod: RodOverrides {
+            bend: SoftnessOverride {
+                alpha: Some(0.005),
+                ..Default::default()
+            },
+            ..Default::default()
+        },
         ..Default::default()
     };
     let alpha_spread = spread(&alpha, "alpha_b 0.005");

@@ -538,6 +538,22 @@ fn variants_override_the_settings_and_their_mistakes_name_their_lines() {
         )),
         "{e}"
     );
+    let e = error("\n[[variant]]\niterations = 4\n");
+    assert_eq!(
+        e,
+        format!(
+            "scenes/x.toml:{}: variant[0]: a [[variant]] needs a name (it names a recording)",
+            line - 1
+        )
+    );
+    let e = error("\n[[variant]]\nname = \"fast\"\nalpha_b = 0.3\n");
+    assert!(
+        e.starts_with(&format!(
+            "scenes/x.toml:{}: variant[0].alpha_b: unknown field",
+            line + 1
+        )),
+        "{e}"
+    );
     let e = error("\n[[variant]]\nname = \"a\"\n[[variant]]\nname = \"a\"\n");
     assert!(
         e.contains("variant[1].name: a variant named \"a\" comes earlier"),
@@ -628,19 +644,29 @@ fn rod_stiffness_mistakes_name_the_field() {
 /// is an error naming the flag, never dropped.
 #[test]
 fn rod_overrides_replace_each_other_and_refuse_what_they_cannot_do() {
+    use rodlab::scene::{RodOverrides, SoftnessOverride};
     use rodlab::sim::Overrides;
-    let mut scene = Scene::parse("scenes/x.toml", GOOD).unwrap();
-    let damping_only = Overrides {
-        bend_damping: Some(1.0),
+    let bend = |bend: SoftnessOverride| Overrides {
+        rod: RodOverrides {
+            bend,
+            ..Default::default()
+        },
         ..Default::default()
     };
+    let mut scene = Scene::parse("scenes/x.toml", GOOD).unwrap();
+    let damping_only = bend(SoftnessOverride {
+        damping: Some(1.0),
+        ..Default::default()
+    });
     damping_only.apply(&mut scene.def);
     let e = damping_only.check_applied(&scene.def).unwrap_err();
     assert!(e.starts_with("--bend-damping: the scene has no rod"), "{e}");
     let stiff = Overrides {
         spine: Some(rodlab::ragdoll::SpineKind::Rod),
-        bend_stiffness: Some(80.0),
-        ..Default::default()
+        ..bend(SoftnessOverride {
+            stiffness: Some(80.0),
+            ..Default::default()
+        })
     };
     let mut scene = Scene::parse("scenes/x.toml", GOOD).unwrap();
     scene.def.ragdoll[0].alpha_b = Some(0.2);
@@ -654,10 +680,10 @@ fn rod_overrides_replace_each_other_and_refuse_what_they_cannot_do() {
         def
     });
     assert!(e.unwrap_err().starts_with("--bend-damping damps"));
-    let alpha = Overrides {
-        alpha_b: Some(0.3),
+    let alpha = bend(SoftnessOverride {
+        alpha: Some(0.3),
         ..Default::default()
-    };
+    });
     alpha.apply(&mut scene.def);
     let r = &scene.def.ragdoll[0];
     assert_eq!((r.alpha_b, r.bend_stiffness), (Some(0.3), None));

@@ -4,7 +4,7 @@
 
 use serde::Deserialize;
 
-use super::VariantDef;
+use super::Overrides;
 use crate::constraint::JointFlavour;
 use crate::ragdoll::SpineKind;
 use crate::world::{ContactDetection, Settings, SolverKind};
@@ -90,9 +90,10 @@ pub struct SceneDef {
     /// `-k w_rel`; zero by default, the paper's method.
     #[serde(default)]
     pub joint_damping: f32,
-    /// Method variants the main job records beside this one ([`VariantDef`]).
+    /// Method variants the main job records beside this one (`[[variant]]`, read as named
+    /// [`Overrides`]).
     #[serde(default)]
-    pub variant: Vec<VariantDef>,
+    pub variant: Vec<Overrides>,
     /// Whether bodies collide (off: no collision work at all).
     #[serde(default)]
     pub contacts: bool,
