@@ -1,4 +1,4 @@
-//! Helpers shared by the tests that read recordings back.
+//! Helpers shared by the tests: scenes built with overrides, and reading recordings back.
 #![allow(dead_code)]
 
 use std::collections::BTreeSet;
@@ -6,6 +6,15 @@ use std::path::{Path, PathBuf};
 
 use rerun::external::re_log_encoding::DecoderApp;
 use rerun::log::{Chunk, LogMsg};
+
+/// The lab of `scenes/<name>.toml` with `overrides` applied, and the frames the scene then asks
+/// for.
+pub fn lab_with(name: &str, overrides: rodlab::sim::Overrides) -> (rodlab::lab::Lab, u32) {
+    let path = format!("{}/scenes/{name}.toml", env!("CARGO_MANIFEST_DIR"));
+    let mut scene = rodlab::scene::Scene::load(path).unwrap();
+    overrides.apply(&mut scene.def);
+    (scene.build().unwrap(), scene.def.frames)
+}
 
 /// A path in this test process's own temporary folder.
 pub fn temp_path(name: &str) -> PathBuf {

@@ -302,22 +302,21 @@ fn stacking_leaves_less_than_two_thirds_of_the_papers_settled_dislocation() {
 /// frame (the paper's detection) or afresh every substep, for one spine: (the mean over frames
 /// of each frame's deepest overlap found afresh, the deepest over the run), cm.
 fn landing_overlap(spine: SpineKind, detection: ContactDetection) -> (f32, f32) {
-    let mut scene = Scene::load(SCENE).unwrap();
-    Overrides {
-        spine: Some(spine),
-        substeps: Some(4),
-        iterations: Some(5),
-        contact_detection: Some(detection),
-        frames: Some(150),
-        ..Default::default()
-    }
-    .apply(&mut scene.def);
-    let mut lab = scene.build().unwrap();
+    let (mut lab, frames) = crate::common::lab_with(
+        "ragdoll_drop",
+        Overrides {
+            spine: Some(spine),
+            substeps: Some(4),
+            iterations: Some(5),
+            contact_detection: Some(detection),
+            frames: Some(150),
+            ..Default::default()
+        },
+    );
     let mut per_frame = Vec::new();
-    let mut observer = |_: &Lab, m: &rodlab::metrics::FrameMetrics| {
-        per_frame.push(m.max_overlap_cm)
-    };
-    let report = sim::run(&mut lab, scene.def.frames, &mut observer).unwrap();
+    let mut observer =
+        |_: &Lab, m: &rodlab::metrics::FrameMetrics| per_frame.push(m.max_overlap_cm);
+    let report = sim::run(&mut lab, frames, &mut observer).unwrap();
     (mean(&per_frame), report.max_overlap_cm)
 }
 

@@ -4,13 +4,12 @@
 //! stops as an explosion, into a finished run.
 
 use rodlab::body::{Body, BodyKind};
+use rodlab::constraint::JointFlavour;
 use rodlab::math::Vec3;
 use rodlab::ragdoll::SpineKind;
-use rodlab::scene::Scene;
 use rodlab::shape::Shape;
 use rodlab::sim::{self, Overrides};
 use rodlab::world::{Settings, SolverKind, World};
-use rodlab::constraint::JointFlavour;
 
 /// A free brick spinning about its major principal axis (a steady spin: the gyroscopic term
 /// keeps it) at `spin` rad/s, after one frame under `limit`: its angular speed.
@@ -35,9 +34,15 @@ fn the_limit_scales_a_faster_spin_down_and_leaves_a_slower_one() {
     // 150 rad/s turns 2.5 rad a 1/60 s frame: under half a turn, so the velocity derived from
     // the poses can still tell it (past pi/h it aliases, as every position-based solver's does)
     let unlimited = spin_after_one_frame(150.0, f32::INFINITY);
-    assert!((unlimited - 150.0).abs() < 1e-3, "a free steady spin kept: {unlimited}");
+    assert!(
+        (unlimited - 150.0).abs() < 1e-3,
+        "a free steady spin kept: {unlimited}"
+    );
     let limited = spin_after_one_frame(150.0, 100.0);
-    assert!((limited - 100.0).abs() < 1e-3, "150 rad/s limited to 100: {limited}");
+    assert!(
+        (limited - 100.0).abs() < 1e-3,
+        "150 rad/s limited to 100: {limited}"
+    );
     assert_eq!(
         spin_after_one_frame(50.0, 100.0),
         spin_after_one_frame(50.0, f32::INFINITY),
@@ -51,23 +56,22 @@ fn the_limit_scales_a_faster_spin_down_and_leaves_a_slower_one() {
 #[test]
 fn the_limit_carries_the_drops_known_spin_up_through() {
     let run = |limit: f32| {
-        let mut scene =
-            Scene::load(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/ragdoll_drop.toml")).unwrap();
-        Overrides {
-            spine: Some(SpineKind::Rod),
-            substeps: Some(4),
-            iterations: Some(1),
-            joint_flavour: Some(JointFlavour::Exact),
-            solver: Some(SolverKind::Simd),
-            contact_hertz: Some(30.0),
-            contact_stacking: Some(10.0),
-            angular_speed_limit: Some(limit),
-            frames: Some(150),
-            ..Default::default()
-        }
-        .apply(&mut scene.def);
-        let mut lab = scene.build().unwrap();
-        sim::run(&mut lab, 150, &mut sim::NoObserver).map(|r| r.total_dislocation_cm.len())
+        let (mut lab, frames) = crate::common::lab_with(
+            "ragdoll_drop",
+            Overrides {
+                spine: Some(SpineKind::Rod),
+                substeps: Some(4),
+                iterations: Some(1),
+                joint_flavour: Some(JointFlavour::Exact),
+                solver: Some(SolverKind::Simd),
+                contact_hertz: Some(30.0),
+                contact_stacking: Some(10.0),
+                angular_speed_limit: Some(limit),
+                frames: Some(150),
+                ..Default::default()
+            },
+        );
+        sim::run(&mut lab, frames, &mut sim::NoObserver).map(|r| r.total_dislocation_cm.len())
     };
     match run(f32::INFINITY) {
         Ok(frames) => println!("without a limit: ran all {frames} frames"),

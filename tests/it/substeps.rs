@@ -263,21 +263,20 @@ fn sweep_solver_dimension_labels_simd_rows() {
 /// frames, both spines).
 #[test]
 fn one_substep_detecting_every_substep_is_the_papers_detection() {
-    let scene = Scene::load(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/ragdoll_drop.toml")).unwrap();
     for spine in [SpineKind::Chain3, SpineKind::Rod] {
         let hash = |detection: ContactDetection| {
-            let mut scene = scene.clone();
-            rodlab::sim::Overrides {
-                spine: Some(spine),
-                substeps: Some(1),
-                contact_detection: Some(detection),
-                frames: Some(60),
-                ..Default::default()
-            }
-            .apply(&mut scene.def);
-            let mut lab = scene.build().unwrap();
-            let report = rodlab::sim::run(&mut lab, 60, &mut rodlab::sim::NoObserver).unwrap();
-            report.state_hash
+            let (mut lab, frames) = crate::common::lab_with(
+                "ragdoll_drop",
+                rodlab::sim::Overrides {
+                    spine: Some(spine),
+                    substeps: Some(1),
+                    contact_detection: Some(detection),
+                    frames: Some(60),
+                    ..Default::default()
+                },
+            );
+            let report = rodlab::sim::run(&mut lab, frames, &mut rodlab::sim::NoObserver);
+            report.unwrap().state_hash
         };
         assert_eq!(
             hash(ContactDetection::Frame),
