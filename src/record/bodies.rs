@@ -262,3 +262,36 @@ pub(super) fn log_ground(rec: &RecordingStream, world: &World) -> anyhow::Result
     )?;
     Ok(())
 }
+
+/// The poses of a batch that never moves, once, as static data.
+pub(super) fn log_static_poses(
+    rec: &RecordingStream,
+    world: &World,
+    batch: &BodyBatch,
+) -> anyhow::Result<()> {
+    let (centres, rotations): (Vec<[f32; 3]>, Vec<rerun::Quaternion>) = shape_poses(world, batch)
+        .map(|(centre, q)| (centre, rerun::Quaternion::from_xyzw(q)))
+        .unzip();
+    let entity = batch.entity.as_str();
+    match pose_track_kind(world, batch) {
+        TrackKind::Capsules => rec.log_static(
+            entity,
+            &rerun::Capsules3D::update_fields()
+                .with_translations(centres)
+                .with_quaternions(rotations),
+        )?,
+        TrackKind::Ellipsoids => rec.log_static(
+            entity,
+            &rerun::Ellipsoids3D::update_fields()
+                .with_centers(centres)
+                .with_quaternions(rotations),
+        )?,
+        _ => rec.log_static(
+            entity,
+            &rerun::Boxes3D::update_fields()
+                .with_centers(centres)
+                .with_quaternions(rotations),
+        )?,
+    }
+    Ok(())
+}

@@ -1,20 +1,25 @@
 //! Recording to Rerun: the only module that uses `rerun`.
 //!
 //! Entity paths (documented in docs/recording.md):
-//! - `world/<group>/capsules|spheres|boxes`: one batched archetype per group (a ragdoll;
-//!   `loose` for a scene's own bodies when it has joints or rods, measured like a ragdoll;
-//!   else `props` for free bodies); shapes logged once as static data, per-instance
-//!   translations and quaternions every frame;
+//! - `world/<group>/capsules|spheres|boxes`: one batched archetype per group (`ragdolls`, every
+//!   ragdoll's bodies as instances of one entity; `loose` for a scene's own bodies when it has
+//!   joints or rods, measured like a ragdoll; `fixed` for bodies that never move, drawn once;
+//!   else `props`); shapes logged once as static data, per-instance translations and
+//!   quaternions every frame;
 //! - `world/<group>/joints`: both world anchors of every joint (Points3D, 2 per joint);
-//! - `world/<ragdoll>/rod/<rod>/centerline` (LineStrips3D, gamma(s) sampled, ends at the body
-//!   centres) and `.../frames` (Arrows3D: material normal and binormal along the arc);
-//! - `world/<ragdoll>/bones/<method>`: the animation bones (LineStrips3D through their origins);
-//! - `metrics/rod/{psi,tau,length_violation_cm,curve_violation_rad}`: one instance per rod;
-//! - `metrics/bones/<method>/{length_error_cm,chest_gap_cm}`: one instance per ragdoll;
+//! - `world/<group>/rods/centerlines` (LineStrips3D, a strip per rod through gamma(s), ends at
+//!   the body centres) and `.../rods/frames` (Arrows3D: material normal and binormal along
+//!   each arc);
+//! - `world/<group>/bones/<method>`: the animation bones, a strip per ragdoll through their
+//!   origins;
 //! - `metrics/dislocation_cm`, `metrics/angular_rad`, `metrics/pose_deviation_cm`: residual
 //!   scalars, one entity per measure with one instance (a named line) per ragdoll, so spines
 //!   compare in one plot;
-//! - `metrics/energy/{kinetic,potential,total}`: energy (J);
+//! - `metrics/rod` (psi, tau, length and curve violation: a line per rod each),
+//!   `metrics/bones` (length error and chest gap: a line per ragdoll and method each),
+//!   `metrics/energy` (kinetic, potential, total; J), `metrics/total` (residuals summed over the
+//!   ragdolls), `metrics/contact_depth_cm` (penetration at the solver's points, overlap found
+//!   afresh): one entity per plot;
 //! - `metrics/awake_bodies`: dynamic bodies awake, with sleeping on (sleeping bodies are drawn
 //!   in their colour faded toward grey);
 //! - `scene`: the scene file (static), `failure`: why a run stopped early, if it did,
@@ -22,8 +27,10 @@
 //!
 //! Timelines: `frame` (sequence, 0 = initial state) and `sim_time` (seconds).
 //!
-//! Per-frame data is buffered and sent once per simulated second, one chunk per entity
-//! (`recorder`, `tracks`, `columns`); static data is logged once.
+//! Per-frame data is buffered and sent once a second of wall time, one chunk per entity
+//! (`recorder`, `tracks`, `columns`); static data is logged once. The number of entities does
+//! not grow with the number of ragdolls: the file's footer keeps a manifest row per chunk in
+//! memory until the end of the run.
 
 use std::path::Path;
 
@@ -81,13 +88,12 @@ impl From<&Scene> for RecordingInfo {
 /// Application id of every rodlab recording.
 pub const APPLICATION_ID: &str = "rodlab";
 
-/// Flush the sink once this much simulated time (s) has passed since the last flush, so a
-/// killed run loses at most that much of the simulation; chunks then fall on the same frames
-/// on every machine.
-const FLUSH_EVERY_S: f64 = 1.0;
-/// ... or this much wall time (s), so a slow run (many ragdolls) also shows up in the file as
-/// it goes. Each flush cuts a chunk per entity, so not more often.
-const FLUSH_WALL_S: f64 = 5.0;
+/// Flush the sink once this much wall time (s) has passed since the last flush, so a killed
+/// run loses at most the last second of its work. Each flush cuts a chunk per entity, and the
+/// file's footer keeps a manifest row per chunk in memory until the end: a flush per simulated
+/// second instead made a fast run's memory grow with its length (the drop runs about 3x faster
+/// than real time).
+const FLUSH_WALL_S: f64 = 1.0;
 /// A flush that takes longer than this (s) fails the run instead of hanging it: the file
 /// writer has died or stalled (a full disk, a vanished file system).
 const FLUSH_TIMEOUT_S: u64 = 10;
@@ -121,8 +127,7 @@ pub fn blueprint(info: impl Into<RecordingInfo>) -> Blueprint {
             series("Rod", "metrics/rod"),
             series("Bones (cm)", "metrics/bones"),
             series("Totals", "metrics/total"),
-            series("Penetration (cm)", "metrics/penetration_cm"),
-            series("Overlap found afresh (cm)", "metrics/overlap_cm"),
+            series("Contact depth (cm)", "metrics/contact_depth_cm"),
             series("Awake bodies", "metrics/awake_bodies"),
         ]);
         Vertical::new([

@@ -20,8 +20,8 @@ pub enum TrackKind {
     Boxes,
     /// `Points3D` positions.
     Points,
-    /// `LineStrips3D`: one strip per frame through that frame's points.
-    Strip,
+    /// `LineStrips3D`: any number of strips a frame (one per rod, or per ragdoll's bones).
+    Strips,
     /// `Arrows3D` origins and vectors.
     Arrows,
 }
@@ -32,8 +32,10 @@ pub struct Track {
     kind: TrackKind,
     frames: Vec<i64>,
     times: Vec<f64>,
-    /// Instances (or strip points) per frame.
+    /// Instances (shapes, points, arrows or strips) per frame.
     lengths: Vec<usize>,
+    /// Points per strip (`Strips` only).
+    strip_lengths: Vec<usize>,
     /// Translations, centers, positions, strip points or arrow vectors.
     points: Vec<[f32; 3]>,
     /// Rotations (xyzw) of capsules, ellipsoids and boxes.
@@ -50,6 +52,7 @@ impl Track {
             frames: Vec::new(),
             times: Vec::new(),
             lengths: Vec::new(),
+            strip_lengths: Vec::new(),
             points: Vec::new(),
             rotations: Vec::new(),
             origins: Vec::new(),
@@ -71,7 +74,8 @@ impl Track {
         *self.lengths.last_mut().expect("begin() before any push") += 1;
     }
 
-    /// A position, strip point, or (with [`Self::push_rotation`]) a shape's centre.
+    /// A position, or (with [`Self::push_pose`] and [`Self::push_arrow`]) a shape's centre or
+    /// an arrow's vector.
     pub fn push_point(&mut self, p: [f32; 3]) {
         self.points.push(p);
         self.count();
@@ -81,6 +85,14 @@ impl Track {
     pub fn push_pose(&mut self, centre: [f32; 3], rotation: [f32; 4]) {
         self.rotations.push(rotation);
         self.push_point(centre);
+    }
+
+    /// One strip through `points`, the row's next instance.
+    pub fn push_strip(&mut self, points: impl IntoIterator<Item = [f32; 3]>) {
+        let before = self.points.len();
+        self.points.extend(points);
+        self.strip_lengths.push(self.points.len() - before);
+        self.count();
     }
 
     pub fn push_arrow(&mut self, origin: [f32; 3], vector: [f32; 3]) {
@@ -142,9 +154,9 @@ impl Track {
                     .with_origins(self.origins.iter().copied())
                     .columns(lengths)?,
             )?,
-            TrackKind::Strip => {
+            TrackKind::Strips => {
                 let mut start = 0;
-                let strips: Vec<rerun::components::LineStrip3D> = (self.lengths.iter())
+                let strips: Vec<rerun::components::LineStrip3D> = (self.strip_lengths.iter())
                     .map(|&n| {
                         start += n;
                         rerun::components::LineStrip3D::from_iter(
@@ -157,13 +169,14 @@ impl Track {
                     times,
                     rerun::LineStrips3D::update_fields()
                         .with_strips(strips)
-                        .columns(std::iter::repeat_n(1, self.frames.len()))?,
+                        .columns(lengths)?,
                 )?
             }
         }
         self.frames.clear();
         self.times.clear();
         self.lengths.clear();
+        self.strip_lengths.clear();
         self.points.clear();
         self.rotations.clear();
         self.origins.clear();

@@ -25,10 +25,24 @@ pub fn temp_path(name: &str) -> PathBuf {
 
 /// All data chunks of the recording (not the blueprint), decoded with Rerun's decoder.
 pub fn decode(path: &Path) -> Vec<Chunk> {
+    decode_messages(path, true)
+}
+
+/// The data chunks of a file cut short (a killed run's): every message up to the first one
+/// that does not decode.
+pub fn decode_prefix(path: &Path) -> Vec<Chunk> {
+    decode_messages(path, false)
+}
+
+fn decode_messages(path: &Path, strict: bool) -> Vec<Chunk> {
     let file = std::io::BufReader::new(std::fs::File::open(path).unwrap());
     let mut chunks = Vec::new();
     for msg in DecoderApp::decode_lazy(file) {
-        let msg = msg.expect("recording decodes");
+        let msg = match msg {
+            Ok(msg) => msg,
+            Err(e) if strict => panic!("recording does not decode: {e}"),
+            Err(_) => break,
+        };
         if let LogMsg::ArrowMsg(store, arrow) = msg {
             if store.kind() == rerun::StoreKind::Recording {
                 chunks.push(Chunk::from_arrow_msg(&arrow).expect("chunk decodes"));

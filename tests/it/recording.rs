@@ -4,7 +4,7 @@
 
 use std::collections::BTreeSet;
 
-use crate::common::{decode, frames_with, static_texts, temp_path};
+use crate::common::{decode, decode_prefix, frames_with, static_texts, temp_path};
 use rodlab::cli::record_scene;
 use rodlab::record;
 use rodlab::scene::Scene;
@@ -34,14 +34,14 @@ fn recording_holds_body_poses_for_every_frame() {
     let chunks = decode(&path);
     let expected: BTreeSet<i64> = (0..=40).collect();
     for (entity, component) in [
-        ("world/chain3/capsules", "translations"),
-        ("world/chain3/capsules", "quaternions"),
+        ("world/ragdolls/capsules", "translations"),
+        ("world/ragdolls/capsules", "quaternions"),
         ("metrics/dislocation_cm", "scalars"),
         // the rod spine's centerline, material frames, scalars and bones
-        ("world/rod/rod/spine_rod/centerline", "strips"),
-        ("world/rod/rod/spine_rod/frames", "vectors"),
-        ("metrics/rod/psi", "scalars"),
-        ("world/rod/bones/arc", "strips"),
+        ("world/ragdolls/rods/centerlines", "strips"),
+        ("world/ragdolls/rods/frames", "vectors"),
+        ("metrics/rod", "scalars"),
+        ("world/ragdolls/bones/arc", "strips"),
     ] {
         assert_eq!(
             frames_with(&chunks, entity, component),
@@ -52,7 +52,7 @@ fn recording_holds_body_poses_for_every_frame() {
     // shapes are static
     assert!(chunks
         .iter()
-        .any(|c| c.is_static() && c.entity_path().to_string() == "/world/chain3/capsules"));
+        .any(|c| c.is_static() && c.entity_path().to_string() == "/world/ragdolls/capsules"));
     // residuals: one series per ragdoll in one entity, named after it, both every frame
     let names = static_texts(&chunks, "metrics/dislocation_cm", "names");
     assert_eq!(names, ["chain3", "rod"]);
@@ -88,7 +88,7 @@ fn recording_from_a_time_keeps_only_the_later_frames() {
     let chunks = decode(&path);
     let expected: BTreeSet<i64> = (30..=40).collect();
     for (entity, component) in [
-        ("world/chain3/capsules", "translations"),
+        ("world/ragdolls/capsules", "translations"),
         ("metrics/dislocation_cm", "scalars"),
     ] {
         assert_eq!(
@@ -99,7 +99,7 @@ fn recording_from_a_time_keeps_only_the_later_frames() {
     }
     assert!(chunks
         .iter()
-        .any(|c| c.is_static() && c.entity_path().to_string() == "/world/chain3/capsules"));
+        .any(|c| c.is_static() && c.entity_path().to_string() == "/world/ragdolls/capsules"));
 }
 
 const EXPLODING: &str = r#"
@@ -280,7 +280,7 @@ fn sigterm_stops_at_a_frame_prints_the_summary_and_finishes_the_recording() {
     let frames: i64 = stopped.split(' ').next().unwrap().parse().unwrap();
     assert!(frames > 0 && frames < 600000, "{stopped}");
     let chunks = decode(&path);
-    let recorded = frames_with(&chunks, "world/drop00/capsules", "translations");
+    let recorded = frames_with(&chunks, "world/ragdolls/capsules", "translations");
     assert_eq!(recorded, (0..=frames).collect::<BTreeSet<i64>>());
     assert!(chunks
         .iter()
@@ -314,9 +314,9 @@ fn record_every_keeps_every_nth_frame() {
     let chunks = decode(&sparse);
     let expected: BTreeSet<i64> = (0..=40).filter(|f| f % 3 == 0).collect();
     for (entity, component) in [
-        ("world/rod/capsules", "translations"),
+        ("world/ragdolls/capsules", "translations"),
         ("metrics/dislocation_cm", "scalars"),
-        ("metrics/rod/psi", "scalars"),
+        ("metrics/rod", "scalars"),
     ] {
         assert_eq!(
             frames_with(&chunks, entity, component),
@@ -333,29 +333,72 @@ fn record_every_keeps_every_nth_frame() {
     );
 }
 
-/// Each entity's frames go out as one chunk per simulated second (and the rest at the end),
-/// not a row per frame through Rerun's batcher: every chunk carries its schema in the file
-/// and a footer entry in the writer's memory.
+/// Each entity's frames go out as one chunk per flush (once a second of wall time, and at the
+/// end), not a row per frame through Rerun's batcher: every chunk carries its schema in the
+/// file and a manifest row in the writer's memory until the footer. Every ragdoll's capsules,
+/// rods and bones are instances of one entity per kind, not entities per ragdoll.
 #[test]
-fn each_entity_gets_one_chunk_per_simulated_second() {
-    let path = temp_path("chunks_per_second.rrd");
-    let scene = passive_bending(150); // 2.5 s at 60 Hz
+fn each_entity_gets_one_chunk_per_flush() {
+    let path = temp_path("chunks_per_flush.rrd");
+    let scene = passive_bending(150); // 2.5 s at 60 Hz, simulated in well under a second
     record_scene(&scene, record::save_to(&path, &scene).unwrap()).unwrap();
     let chunks = decode(&path);
     for entity in [
-        "world/rod/capsules",
-        "world/rod/rod/spine_rod/centerline",
-        "world/rod/bones/arc",
+        "world/ragdolls/capsules",
+        "world/ragdolls/rods/centerlines",
+        "world/ragdolls/bones/arc",
         "metrics/dislocation_cm",
-        "metrics/energy/total",
+        "metrics/energy",
     ] {
         let temporal = (chunks.iter())
             .filter(|c| !c.is_static() && c.entity_path().to_string() == format!("/{entity}"))
             .count();
-        assert_eq!(temporal, 3, "{entity}: chunks at 1 s, 2 s and the end");
+        assert!(
+            (1..=2).contains(&temporal),
+            "{entity}: {temporal} chunks, not one a flush"
+        );
         let frames = frames_with(&chunks, entity, "");
         assert_eq!(frames, (0..=150).collect::<BTreeSet<i64>>(), "{entity}");
     }
+    let time_varying: BTreeSet<String> = (chunks.iter())
+        .filter(|c| !c.is_static())
+        .map(|c| c.entity_path().to_string())
+        .collect();
+    assert!(
+        time_varying.len() <= 16,
+        "entities with a chunk per flush: {time_varying:?}"
+    );
+}
+
+/// `kill -9` leaves a file without a footer that still decodes, with every frame from 0 up to
+/// the last flush: the recorder flushes once a second of wall time.
+#[test]
+fn a_killed_run_keeps_every_frame_up_to_its_last_flush() {
+    let path = temp_path("killed.rrd");
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_rodlab"))
+        .arg("run")
+        .arg(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/scenes/ragdoll_drop.toml"
+        ))
+        .args(["--spine", "rod", "--frames", "600000", "--save"])
+        .arg(&path)
+        .stdout(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(2500));
+    child.kill().unwrap(); // SIGKILL
+    child.wait().unwrap();
+    let chunks = decode_prefix(&path);
+    let recorded = frames_with(&chunks, "world/ragdolls/capsules", "translations");
+    let last = *recorded.last().expect("a flush within 2.5 s");
+    assert_eq!(recorded, (0..=last).step_by(2).collect::<BTreeSet<i64>>());
+    // 30 ragdolls, yet as few entities as two: they are instances, not entities
+    let time_varying: BTreeSet<String> = (chunks.iter())
+        .filter(|c| !c.is_static())
+        .map(|c| c.entity_path().to_string())
+        .collect();
+    assert!(time_varying.len() <= 16, "{time_varying:?}");
 }
 
 /// `run --stdout` streams the recording on stdout: the summary goes to stderr, so nothing but
@@ -390,7 +433,7 @@ fn stdout_recording_carries_no_report_text() {
     std::fs::write(&path, &output.stdout).unwrap();
     let chunks = decode(&path);
     assert_eq!(
-        frames_with(&chunks, "world/chain3/capsules", "translations"),
+        frames_with(&chunks, "world/ragdolls/capsules", "translations"),
         (0..=40).collect::<BTreeSet<i64>>()
     );
 }

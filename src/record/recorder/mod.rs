@@ -1,32 +1,30 @@
 //! [`Recorder`]: streams a lab into a recording as it runs.
 //!
 //! Each frame fills one row of every entity's [`Track`] and every scalar series; every
-//! [`FLUSH_EVERY_S`] of simulated time (or [`FLUSH_WALL_S`] of wall time) they are sent as one
-//! chunk per entity, after waiting for the block before to be written. What never changes
+//! [`FLUSH_WALL_S`] of wall time they are sent as one chunk per entity, after waiting for the
+//! block before to be written. What never changes
 //! (shapes, colours, radii, series styles) is logged once, static.
 
 mod rods_bones;
 
-use std::collections::HashMap;
-
 use rerun::RecordingStream;
 
 use super::bodies::{
-    body_batches, log_colors, log_ground, log_shapes, pose_track_kind, shape_poses, sleep_colors,
-    BodyBatch,
+    body_batches, log_colors, log_ground, log_shapes, log_static_poses, pose_track_kind,
+    shape_poses, sleep_colors, BodyBatch,
 };
 use super::columns::ScalarColumns;
 use super::style::spine_color;
 use super::tracks::{Track, TrackKind};
-use super::{flush, RecordingInfo, FLUSH_EVERY_S, FLUSH_WALL_S};
-use crate::body::BodyId;
+use super::{flush, RecordingInfo, FLUSH_WALL_S};
+use crate::body::{BodyId, BodyKind};
 use crate::constraint::Constraint;
 use crate::lab::Lab;
 use crate::metrics::FrameMetrics;
 use crate::scene::RecordDef;
 use crate::sim::Observer;
 use crate::world::SimulationError;
-use rods_bones::{rod_tracks, BoneTrack, RodTracks, ROD_SERIES};
+use rods_bones::{rod_groups, Bones, RodGroup, ROD_SERIES};
 
 /// The residual series, one instance per ragdoll.
 const RESIDUAL_SERIES: [&str; 3] = [
@@ -47,23 +45,45 @@ pub struct Recorder {
     joints: Vec<(Track, Vec<usize>)>,
     /// Dislocation, angular violation and pose deviation: one instance per ragdoll.
     residuals: [usize; 3],
-    rods: Vec<RodTracks>,
-    /// [`ROD_SERIES`]: one instance per rod.
-    rod_series: [usize; 4],
-    /// Per (ragdoll, bone method), created from the first frame's metrics.
-    bones: HashMap<(usize, &'static str), BoneTrack>,
+    /// The rods (constraint indices), in the order of their instances in [`ROD_SERIES`].
+    rods: Vec<usize>,
+    rod_groups: Vec<RodGroup>,
+    /// `metrics/rod`: the [`ROD_SERIES`], an instance per rod each.
+    rod_series: usize,
+    /// Per bone method, created from the first frame's metrics.
+    bones: Bones,
+    /// `metrics/energy`: kinetic, potential and total.
+    energy: usize,
+    /// `metrics/contact_depth_cm`: penetration at the solver's points and overlap found afresh.
+    contact_depth: usize,
+    /// `metrics/total`: dislocation and angular violation summed over the ragdolls.
+    totals: usize,
     contacts: Track,
-    /// When the sink was last flushed: wall clock and simulated time (s).
-    flushed_at: (std::time::Instant, f64),
+    /// When the sink was last flushed (wall clock).
+    flushed_at: std::time::Instant,
     /// Every scalar series.
     scalars: ScalarColumns,
     /// Send every frame as it comes (a viewer is watching), not a block per second.
     pub live: bool,
 }
 
+/// The lines of `metrics/energy`, `metrics/total` and `metrics/contact_depth_cm`.
+const ENERGY_SERIES: [&str; 3] = ["kinetic", "potential", "total"];
+const TOTAL_SERIES: [&str; 2] = ["dislocation_cm", "angular_rad"];
+const CONTACT_DEPTH_SERIES: [&str; 2] =
+    ["penetration at the solver's points", "overlap found afresh"];
+
+/// The group a body is drawn in, `world/<group>/...`: every ragdoll's bodies together
+/// (`ragdolls`; an instance per body, not an entity per ragdoll, keeps the file's footer small),
+/// a plain group of joints and rods under its own name (`loose`), bodies that never move
+/// (`fixed`, drawn once), else `props`.
 fn group_of(lab: &Lab, body: BodyId) -> String {
-    lab.ragdoll_of(body)
-        .map_or_else(|| "props".to_string(), |r| r.name.clone())
+    match lab.ragdoll_of(body) {
+        Some(r) if r.spine.is_some() => "ragdolls".to_string(),
+        Some(r) => r.name.clone(),
+        None if lab.world.body(body).kind == BodyKind::Fixed => "fixed".to_string(),
+        None => "props".to_string(),
+    }
 }
 
 impl Recorder {
@@ -77,7 +97,14 @@ impl Recorder {
         let info = info.into();
         let world = &lab.world;
         rec.set_log_time_enabled(false);
-        let batches = body_batches(lab, |id| format!("world/{}", group_of(lab, id)));
+        let (fixed, batches): (Vec<_>, Vec<_>) =
+            body_batches(lab, |id| format!("world/{}", group_of(lab, id)))
+                .into_iter()
+                .partition(|b| {
+                    b.bodies
+                        .iter()
+                        .all(|&id| world.body(id).kind == BodyKind::Fixed)
+                });
         let poses = (batches.iter())
             .map(|b| Track::new(b.entity.clone(), pose_track_kind(world, b)))
             .collect();
@@ -91,12 +118,14 @@ impl Recorder {
                 }
             }
         }
-        let rods = rod_tracks(lab);
+        let (rods, rod_groups) = rod_groups(lab);
         let mut scalars = ScalarColumns::default();
         let ragdolls = lab.ragdolls.len();
         let residuals = RESIDUAL_SERIES.map(|path| scalars.series(path, ragdolls));
-        let rod_series =
-            ROD_SERIES.map(|name| scalars.series(&format!("metrics/rod/{name}"), rods.len()));
+        let rod_series = scalars.series("metrics/rod", ROD_SERIES.len() * rods.len());
+        let energy = scalars.series("metrics/energy", ENERGY_SERIES.len());
+        let contact_depth = scalars.series("metrics/contact_depth_cm", CONTACT_DEPTH_SERIES.len());
+        let totals = scalars.series("metrics/total", TOTAL_SERIES.len());
         let mut recorder = Recorder {
             rec,
             options: info.options.clone(),
@@ -105,14 +134,27 @@ impl Recorder {
             joints,
             residuals,
             rods,
+            rod_groups,
             rod_series,
-            bones: HashMap::new(),
+            bones: Bones::default(),
+            energy,
+            contact_depth,
+            totals,
             contacts: Track::new("world/contacts", TrackKind::Arrows),
-            flushed_at: (std::time::Instant::now(), 0.0),
+            flushed_at: std::time::Instant::now(),
             scalars,
             live: false,
         };
         recorder.log_static(lab, &info)?;
+        for batch in &fixed {
+            log_shapes(
+                &recorder.rec,
+                world,
+                batch,
+                vec![rerun::Color::from_rgb(110, 110, 110)],
+            )?;
+            log_static_poses(&recorder.rec, world, batch)?;
+        }
         Ok(recorder)
     }
 
@@ -141,12 +183,12 @@ impl Recorder {
         {
             track.send(rec)?;
         }
-        for rod in &mut self.rods {
-            rod.centerline.send(rec)?;
-            rod.frames.send(rec)?;
+        for group in &mut self.rod_groups {
+            group.centerlines.send(rec)?;
+            group.frames.send(rec)?;
         }
-        for bones in self.bones.values_mut() {
-            bones.track.send(rec)?;
+        for track in &mut self.bones.tracks {
+            track.send(rec)?;
         }
         self.contacts.send(rec)?;
         self.scalars.send(rec)
@@ -196,6 +238,19 @@ impl Recorder {
             .with_names(lab.ragdolls.iter().map(|r| r.name.as_str()));
         for path in RESIDUAL_SERIES {
             rec.log_static(path, &style)?;
+        }
+        let names = |names: &[&str]| rerun::SeriesLines::new().with_names(names.to_vec());
+        let energy_colors = [(250, 150, 40), (70, 130, 240), (235, 235, 235)]
+            .map(|(r, g, b)| rerun::Color::from_rgb(r, g, b));
+        rec.log_static(
+            "metrics/energy",
+            &names(&ENERGY_SERIES).with_colors(energy_colors),
+        )?;
+        if world.settings.contacts {
+            rec.log_static("metrics/contact_depth_cm", &names(&CONTACT_DEPTH_SERIES))?;
+        }
+        if lab.ragdolls.len() > 2 {
+            rec.log_static("metrics/total", &names(&TOTAL_SERIES))?;
         }
         self.log_rod_styles(world)
     }
@@ -251,10 +306,14 @@ impl Recorder {
             self.log_bones(lab, metrics, frame)?;
         }
         if self.options.energy {
-            let scalars = &mut self.scalars;
-            scalars.push("metrics/energy/kinetic", metrics.kinetic_energy as f64);
-            scalars.push("metrics/energy/potential", metrics.potential_energy as f64);
-            scalars.push("metrics/energy/total", metrics.total_energy() as f64);
+            let energies = [
+                metrics.kinetic_energy,
+                metrics.potential_energy,
+                metrics.total_energy(),
+            ];
+            for (instance, energy) in energies.into_iter().enumerate() {
+                self.scalars.set(self.energy, instance, energy as f64);
+            }
         }
         if world.settings.sleep {
             (self.scalars).push("metrics/awake_bodies", world.awake_bodies as f64);
@@ -262,13 +321,12 @@ impl Recorder {
         if self.live {
             self.send()?; // not flushed: the batcher forwards chunks as they come
         }
-        let (wall, simulated) = self.flushed_at;
-        if world.time - simulated >= FLUSH_EVERY_S || wall.elapsed().as_secs_f64() >= FLUSH_WALL_S {
+        if self.flushed_at.elapsed().as_secs_f64() >= FLUSH_WALL_S {
             // Wait for the last block to be written (or the writer to fail) only now, a
             // second later: the writer encodes a block while the next second is simulated.
             flush(&self.rec)?;
             self.send()?;
-            self.flushed_at = (std::time::Instant::now(), world.time);
+            self.flushed_at = std::time::Instant::now();
         }
         Ok(())
     }
@@ -279,13 +337,14 @@ impl Recorder {
         let world = &lab.world;
         let scalars = &mut self.scalars;
         if world.settings.contacts {
-            scalars.push("metrics/penetration_cm", metrics.max_penetration_cm as f64);
-            scalars.push("metrics/overlap_cm", metrics.max_overlap_cm as f64);
+            let depth = self.contact_depth;
+            scalars.set(depth, 0, metrics.max_penetration_cm as f64);
+            scalars.set(depth, 1, metrics.max_overlap_cm as f64);
         }
         if lab.ragdolls.len() > 2 {
             let (dislocation, angular) = metrics.totals();
-            scalars.push("metrics/total/dislocation_cm", dislocation as f64);
-            scalars.push("metrics/total/angular_rad", angular as f64);
+            scalars.set(self.totals, 0, dislocation as f64);
+            scalars.set(self.totals, 1, angular as f64);
         }
         if !self.options.contacts {
             return;
