@@ -192,6 +192,10 @@ pub struct OverrideArgs {
     /// every substep); default the scene's `contact_detection`.
     #[arg(long, value_parser = parse_choice::<ContactDetection>)]
     pub contact_detection: Option<ContactDetection>,
+    /// Contact-only sweeps after each substep's iterations (0: none, the paper's; default the
+    /// scene's `contact_extra_sweeps`).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(..=10_000))]
+    pub contact_extra_sweeps: Option<u32>,
     /// Each substep a faster body's spin is scaled down to this angular speed (rad/s), as
     /// Jolt, PhysX and Box2D do; inf: none, the paper's (default the scene's).
     #[arg(long, value_parser = positive_angular_speed)]
@@ -250,6 +254,7 @@ impl From<&OverrideArgs> for Overrides {
             solver: a.solver,
             sleep: a.sleep,
             contact_push_speed: a.contact_push_speed,
+            contact_extra_sweeps: a.contact_extra_sweeps,
             contact_warm_start: a.contact_warm_start,
             contact_hertz: a.contact_hertz,
             contact_damping_ratio: a.contact_damping_ratio,

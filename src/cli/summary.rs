@@ -8,12 +8,16 @@ use crate::sim::RunReport;
 /// state hash, the residuals, penetration, sleep and phase times.
 pub fn print_summary(name: &str, scene: &Scene, report: &RunReport) {
     report!(
-        "{name}: {} frames, dt {:.4} s, {} substep(s) x {} iterations, {} solver on {} thread(s), \
-         {:.0} steps/s (stepping only), energy {:.1} J -> {:.1} J, state hash {:016x}",
+        "{name}: {} frames, dt {:.4} s, {} substep(s) x {} iterations{}, {} solver on {} \
+         thread(s), {:.0} steps/s (stepping only), energy {:.1} J -> {:.1} J, state hash {:016x}",
         report.frames,
         scene.def.dt,
         scene.def.substeps,
         scene.def.iterations,
+        match scene.def.contact_extra_sweeps {
+            0 => String::new(),
+            n => format!(" + {n} contact sweeps"),
+        },
         scene.def.solver,
         rayon::current_num_threads(),
         report.steps_per_second(),

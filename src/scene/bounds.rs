@@ -65,6 +65,11 @@ pub fn check_settings(d: &SceneDef, prefix: &[Seg]) -> Result<(), Failure> {
     for (name, value, max) in [
         ("iterations", d.iterations, MAX_ITERATIONS),
         ("substeps", d.substeps, MAX_SUBSTEPS),
+        (
+            "contact_extra_sweeps",
+            d.contact_extra_sweeps,
+            MAX_ITERATIONS,
+        ),
         ("frames", d.frames, MAX_FRAMES),
     ] {
         if value > max {

@@ -97,6 +97,7 @@ fn settings(d: &SceneDef) -> Settings {
         contact_margin: d.contact_margin,
         contact_detection: d.contact_detection,
         contact_push_speed: d.contact_push_speed,
+        contact_extra_sweeps: d.contact_extra_sweeps,
         contact_warm_start: d.contact_warm_start,
         contact_hertz: d.contact_hertz,
         contact_damping_ratio: d.contact_damping_ratio,

@@ -33,6 +33,8 @@ pub struct Overrides {
     pub joint_flavour: Option<JointFlavour>,
     /// Speed limit on pushing out deep overlap (m/s).
     pub contact_push_speed: Option<f32>,
+    /// Contact-only sweeps after each substep's iterations.
+    pub contact_extra_sweeps: Option<u32>,
     /// Fraction of their last impulses contacts start each substep with (0 to 1).
     pub contact_warm_start: Option<f32>,
     /// Soft contacts' natural frequency (Hz); 0 is the hard projection.
@@ -96,6 +98,7 @@ impl Overrides {
         set(&mut def.solver, self.solver);
         set(&mut def.sleep, self.sleep);
         set(&mut def.contact_push_speed, self.contact_push_speed);
+        set(&mut def.contact_extra_sweeps, self.contact_extra_sweeps);
         set(&mut def.contact_warm_start, self.contact_warm_start);
         set(&mut def.contact_hertz, self.contact_hertz);
         set(&mut def.contact_damping_ratio, self.contact_damping_ratio);

@@ -39,7 +39,9 @@
 //!       independent, so they are solved [`SolverKind::Scalar`] one by one or
 //!       [`SolverKind::Simd`] W at a time from lanes packed once before the iterations (and
 //!       the contacts' impulses unpacked after them: [`packed`]), and on several threads when
-//!       a colour is large enough ([`PARALLEL_MIN_ROWS`]);
+//!       a colour is large enough ([`PARALLEL_MIN_ROWS`]); then
+//!       [`Settings::contact_extra_sweeps`] sweeps of the contact points alone (none in the
+//!       paper's method);
 //!    4. derive the velocities `v = (p* - p) / h`, `w = log(q* q^-1) / h` and commit the poses
 //!       back to the [`Body`]s;
 //!    5. a stiff rod's damping (`bend_damping`, `twist_damping`) on the velocities
@@ -363,6 +365,18 @@ impl Solver {
                 parallel,
             );
             self.profile.joints += lap(clock);
+            let contact_lanes = simd.then_some(&mut self.contact_lanes);
+            let points = &mut contacts.points;
+            sweep(
+                points,
+                &self.contact_colours,
+                contact_lanes,
+                shared,
+                parallel,
+            );
+            self.profile.contacts += lap(clock);
+        }
+        for _ in 0..settings.contact_extra_sweeps {
             let contact_lanes = simd.then_some(&mut self.contact_lanes);
             let points = &mut contacts.points;
             sweep(

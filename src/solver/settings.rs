@@ -88,6 +88,11 @@ pub struct Settings {
     pub contact_detection: ContactDetection,
     /// Deep overlap is pushed out no faster than this (m/s); infinity pushes it out at once.
     pub contact_push_speed: f32,
+    /// Contact-only sweeps after each substep's `iterations` (PhysX's and Jolt's extra
+    /// position iterations, for contacts alone): they push out the overlap the last joint
+    /// sweep left, so the substep ends with its contacts solved most. 0 (the default) is the
+    /// paper's method.
+    pub contact_extra_sweeps: u32,
     /// Each substep starts every contact point with this fraction of the normal impulse it
     /// ended the last substep with (warm starting; Rapier's `warmstart_coefficient`); a point
     /// found again next frame keeps it ([`crate::contact::manifold`]). 0 is the paper's method.
@@ -132,6 +137,7 @@ impl Default for Settings {
             contact_margin: 0.02,
             contact_detection: ContactDetection::Frame,
             contact_push_speed: DEFAULT_CONTACT_PUSH_SPEED,
+            contact_extra_sweeps: 0,
             contact_warm_start: 0.0,
             contact_hertz: 0.0,
             contact_damping_ratio: 1.0,

@@ -704,6 +704,12 @@ fn numbers_out_of_their_bounds_name_their_field() {
         ("dt = 0.01", "dt = 5.0", "dt", "at most 1 s"),
         (
             "dt = 0.01",
+            "dt = 0.01\ncontact_extra_sweeps = 100000",
+            "contact_extra_sweeps",
+            "at most 10000",
+        ),
+        (
+            "dt = 0.01",
             "dt = 0.01\ncontact_margin = nan",
             "contact_margin",
             "distance",

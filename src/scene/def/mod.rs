@@ -108,6 +108,10 @@ pub struct SceneDef {
     /// `inf` (the default) pushes it out at once, the paper-era projection.
     #[serde(default = "default_contact_push_speed")]
     pub contact_push_speed: f32,
+    /// Contact-only sweeps after each substep's iterations; 0 (the default) is the paper's
+    /// method.
+    #[serde(default)]
+    pub contact_extra_sweeps: u32,
     /// Each substep starts its contacts with this fraction of their last impulses (warm
     /// starting, 0 to 1); 0 (the default) is the paper's method.
     #[serde(default)]
