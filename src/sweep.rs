@@ -19,7 +19,7 @@
 //!
 //! | column | meaning |
 //! |---|---|
-//! | `method` | `<spine>/<joint>[ simd][ x<substeps>][ warm<w>][ soft<f>Hz][ stack<k>][ redetect]`, e.g. `rod/exact x4` |
+//! | `method` | `<spine>/<joint>[ simd][ x<substeps>][ warm<w>][ soft<f>Hz][ stack<k>][ redetect][ sweeps<n>]`, e.g. `rod/exact x4` |
 //! | `spine` | chain3, rod or single |
 //! | `joint` | cheap or exact |
 //! | `solver` | scalar or simd (empty for a peer engine) |
@@ -28,6 +28,7 @@
 //! | `contact_hertz` | soft contacts' frequency (0: hard, the paper's method) |
 //! | `contact_stacking` | stacking's rate k (1/m; 0: the paper's method) |
 //! | `contact_detection` | when contact points are found: `frame` (the paper's method) or `substep` (label ` redetect`) |
+//! | `contact_extra_sweeps` | sweeps of the contacts alone after each substep's iterations (0: the paper's method; label ` sweeps<n>`) |
 //! | `dt` | time step (s) of a frame |
 //! | `iterations` | solver iterations per substep |
 //! | `step_us` | median time per step (microseconds) |
@@ -76,6 +77,9 @@ pub struct SweepConfig {
     pub contact_stacking: Vec<f32>,
     /// When contact points are found (frame: the paper's); empty keeps the scene's.
     pub contact_detection: Vec<ContactDetection>,
+    /// Contact-only sweeps after each substep's iterations (0: the paper's); empty keeps the
+    /// scene's.
+    pub contact_extra_sweeps: Vec<u32>,
     /// Frames per run; `None` keeps the scene's.
     pub frames: Option<u32>,
     /// Runs per combination, pooled for the median step time.
@@ -95,6 +99,7 @@ impl Default for SweepConfig {
             contact_hertz: Vec::new(),
             contact_stacking: Vec::new(),
             contact_detection: Vec::new(),
+            contact_extra_sweeps: Vec::new(),
             frames: None,
             repeats: 3,
         }
@@ -122,6 +127,8 @@ pub struct SweepRow {
     pub contact_stacking: f32,
     /// When contact points are found: frame or substep (frame for a peer).
     pub contact_detection: ContactDetection,
+    /// Contact-only sweeps after each substep's iterations (0 for a peer).
+    pub contact_extra_sweeps: u32,
     /// Frame time step (s).
     pub dt: f32,
     /// Iterations per substep.
@@ -155,6 +162,7 @@ impl SweepRow {
             contact_hertz: 0.0,
             contact_stacking: 0.0,
             contact_detection: ContactDetection::Frame,
+            contact_extra_sweeps: 0,
             dt,
             iterations,
             step_us: 0.0,
@@ -192,11 +200,17 @@ pub fn combinations(def: &SceneDef, config: &SweepConfig) -> Vec<Overrides> {
         true => vec![def.contact_detection],
         false => config.contact_detection.clone(),
     };
+    let extra_sweeps = match config.contact_extra_sweeps.is_empty() {
+        true => vec![def.contact_extra_sweeps],
+        false => config.contact_extra_sweeps.clone(),
+    };
     let mut contact_methods = Vec::new();
     for &w in &warm_starts {
         for &f in &hertz_list {
             for &k in &stacking_list {
-                contact_methods.extend(detections.iter().map(|&d| (w, f, k, d)));
+                for &d in &detections {
+                    contact_methods.extend(extra_sweeps.iter().map(|&n| (w, f, k, d, n)));
+                }
             }
         }
     }
@@ -205,7 +219,7 @@ pub fn combinations(def: &SceneDef, config: &SweepConfig) -> Vec<Overrides> {
         for &joint in &config.joints {
             for &solver in &solvers {
                 for &substeps in &substeps {
-                    for &(warm, hertz, stacking, detection) in &contact_methods {
+                    for &(warm, hertz, stacking, detection, sweeps) in &contact_methods {
                         // one substep detects once a frame either way: the same method twice
                         let frame_listed = detections.contains(&ContactDetection::Frame);
                         if substeps == 1 && detection == ContactDetection::Substep && frame_listed {
@@ -222,6 +236,7 @@ pub fn combinations(def: &SceneDef, config: &SweepConfig) -> Vec<Overrides> {
                                     contact_hertz: Some(hertz),
                                     contact_stacking: Some(stacking),
                                     contact_detection: Some(detection),
+                                    contact_extra_sweeps: Some(sweeps),
                                     dt: Some(dt),
                                     iterations: Some(iterations),
                                     frames: config.frames,
@@ -238,8 +253,9 @@ pub fn combinations(def: &SceneDef, config: &SweepConfig) -> Vec<Overrides> {
 }
 
 /// The method's label: `<spine>/<joint>`, then ` simd` unless scalar, ` x<substeps>` unless
-/// 1, ` warm<w>`, ` soft<f>Hz` and ` stack<k>` unless 0, and ` redetect` with detection every
-/// substep (so the paper's method keeps its plain name); the joint flavour, solver, substeps
+/// 1, ` warm<w>`, ` soft<f>Hz` and ` stack<k>` unless 0, ` redetect` with detection every
+/// substep, and ` sweeps<n>` with extra contact sweeps (so the paper's method keeps its plain
+/// name); the joint flavour, solver, substeps
 /// and contact settings are the scene's.
 pub fn method_label(spine: SpineKind, def: &SceneDef) -> String {
     let mut label = format!("{spine}/{}", def.joint_flavour);
@@ -260,6 +276,9 @@ pub fn method_label(spine: SpineKind, def: &SceneDef) -> String {
     }
     if def.contact_detection != ContactDetection::Frame {
         label += " redetect";
+    }
+    if def.contact_extra_sweeps != 0 {
+        label += &format!(" sweeps{}", def.contact_extra_sweeps);
     }
     label
 }
@@ -288,6 +307,7 @@ pub fn run_one(scene: &Scene, overrides: &Overrides, repeats: u32) -> anyhow::Re
     row.contact_hertz = def.contact_hertz;
     row.contact_stacking = def.contact_stacking;
     row.contact_detection = def.contact_detection;
+    row.contact_extra_sweeps = def.contact_extra_sweeps;
     let frames = def.frames;
     time_and_measure(row, frames, repeats, || Ok(scene.build()?))
 }

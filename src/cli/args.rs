@@ -135,6 +135,10 @@ pub struct SweepArgs {
     /// the scene's.
     #[arg(long, value_delimiter = ',', value_parser = parse_choice::<ContactDetection>)]
     pub contact_detection: Vec<ContactDetection>,
+    /// Contact-only sweeps after each substep's iterations, comma separated (0: the paper's);
+    /// default the scene's.
+    #[arg(long, value_delimiter = ',', value_parser = clap::value_parser!(u32).range(..=10_000))]
+    pub contact_extra_sweeps: Vec<u32>,
     /// Worker threads of the solver; default rayon's (one per core).
     #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
     pub threads: Option<u64>,

@@ -101,6 +101,7 @@ fn dispatch_command(cli: Cli, matches: &ArgMatches) -> anyhow::Result<()> {
                 contact_hertz: args.contact_hertz,
                 contact_stacking: args.contact_stacking,
                 contact_detection: args.contact_detection,
+                contact_extra_sweeps: args.contact_extra_sweeps,
                 frames: args.frames,
                 repeats: args.repeats,
             };

@@ -50,7 +50,8 @@ pub(super) fn sweep(
     let mut rows = Vec::with_capacity(combinations.len());
     for overrides in &combinations {
         progress.show(&format!(
-            "{}/{} {} dt={:.4} substeps={} warm={} soft={}Hz stack={} detect={} iterations={}",
+            "{}/{} {} dt={:.4} substeps={} warm={} soft={}Hz stack={} detect={} sweeps={} \
+             iterations={}",
             overrides.spine.unwrap_or_default(),
             overrides.joint_flavour.unwrap_or_default(),
             overrides.solver.unwrap_or(scene.def.solver),
@@ -60,6 +61,7 @@ pub(super) fn sweep(
             (overrides.contact_hertz).unwrap_or(scene.def.contact_hertz),
             (overrides.contact_stacking).unwrap_or(scene.def.contact_stacking),
             (overrides.contact_detection).unwrap_or(scene.def.contact_detection),
+            (overrides.contact_extra_sweeps).unwrap_or(scene.def.contact_extra_sweeps),
             overrides.iterations.unwrap_or(scene.def.iterations)
         ));
         rows.push(sweep::run_one(&scene, overrides, config.repeats)?);

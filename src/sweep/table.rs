@@ -5,7 +5,7 @@ use super::SweepRow;
 use crate::world::ContactDetection;
 
 const HEADER: &str =
-    "method,spine,joint,solver,substeps,warm_start,contact_hertz,contact_stacking,contact_detection,dt,iterations,step_us,\
+    "method,spine,joint,solver,substeps,warm_start,contact_hertz,contact_stacking,contact_detection,contact_extra_sweeps,dt,iterations,step_us,\
 mean_dislocation_cm,max_dislocation_cm,mean_angular_rad,max_angular_rad,max_overlap_cm,failed";
 
 /// The rows as CSV text, header first (see the [`crate::sweep`] module docs for the columns).
@@ -23,6 +23,7 @@ pub fn to_csv(rows: &[SweepRow]) -> String {
                 r.contact_hertz.to_string(),
                 r.contact_stacking.to_string(),
                 r.contact_detection.to_string(),
+                r.contact_extra_sweeps.to_string(),
                 r.dt.to_string(),
                 r.iterations.to_string(),
                 format!("{:.3}", r.step_us),
@@ -39,8 +40,7 @@ pub fn to_csv(rows: &[SweepRow]) -> String {
 
 /// Reads back what [`to_csv`] wrote (columns as in the [`crate::sweep`] module's table: method,
 /// spine, joint, solver, substeps, warm_start, contact_hertz, contact_stacking, contact_detection,
-/// dt, iterations,
-/// step_us, the four residuals, max_overlap_cm, failed); errors name the line and the column.
+/// contact_extra_sweeps, dt, iterations, step_us, the four residuals, max_overlap_cm, failed); errors name the line and the column.
 pub fn parse_csv(text: &str) -> anyhow::Result<Vec<SweepRow>> {
     use anyhow::Context as _;
     let mut rows = Vec::new();
@@ -67,15 +67,16 @@ pub fn parse_csv(text: &str) -> anyhow::Result<Vec<SweepRow>> {
                     "line {line}: column contact_detection: expected frame or substep, got {other:?}"
                 ),
             },
-            dt: number(9)? as f32,
-            iterations: number(10)? as u32,
-            step_us: number(11)?,
-            mean_dislocation_cm: number(12)?,
-            max_dislocation_cm: number(13)?,
-            mean_angular_rad: number(14)?,
-            max_angular_rad: number(15)?,
-            max_overlap_cm: number(16)?,
-            failed: Some(fields[17].to_string()).filter(|s| !s.is_empty()),
+            contact_extra_sweeps: number(9)? as u32,
+            dt: number(10)? as f32,
+            iterations: number(11)? as u32,
+            step_us: number(12)?,
+            mean_dislocation_cm: number(13)?,
+            max_dislocation_cm: number(14)?,
+            mean_angular_rad: number(15)?,
+            max_angular_rad: number(16)?,
+            max_overlap_cm: number(17)?,
+            failed: Some(fields[18].to_string()).filter(|s| !s.is_empty()),
         });
     }
     Ok(rows)

@@ -234,3 +234,40 @@ fn a_failure_message_with_commas_reads_back_whole() {
     assert_eq!(back[0].failed.as_deref(), Some(message));
     assert_eq!(back[0].method, rows[0].method);
 }
+
+/// `contact_extra_sweeps` is a sweep dimension: each count is a method of its own, labelled
+/// ` sweeps<n>` (none for 0, the paper's), with its own CSV column read back; and the sweeps
+/// reach the solver (the drop's landing, 10 substeps of one iteration with contacts found
+/// every substep, leaves a different pile with three of them).
+#[test]
+fn extra_contact_sweeps_are_a_sweep_dimension() {
+    let config = SweepConfig {
+        iterations: vec![1],
+        spines: vec![SpineKind::Rod],
+        joints: vec![JointFlavour::Cheap],
+        substeps: vec![10],
+        contact_detection: vec![rodlab::world::ContactDetection::Substep],
+        contact_extra_sweeps: vec![0, 3],
+        frames: Some(90),
+        repeats: 1,
+        ..Default::default()
+    };
+    let rows = run("ragdoll_drop", &config);
+    let labels: Vec<(&str, u32)> = (rows.iter())
+        .map(|r| (r.method.as_str(), r.contact_extra_sweeps))
+        .collect();
+    assert_eq!(
+        labels,
+        [
+            ("rod/cheap x10 redetect", 0),
+            ("rod/cheap x10 redetect sweeps3", 3)
+        ]
+    );
+    assert!(rows.iter().all(|r| r.failed.is_none()));
+    assert_ne!(
+        (rows[0].mean_dislocation_cm, rows[0].max_overlap_cm),
+        (rows[1].mean_dislocation_cm, rows[1].max_overlap_cm)
+    );
+    let back = sweep::parse_csv(&sweep::to_csv(&rows)).unwrap();
+    assert_eq!(back[1].contact_extra_sweeps, 3);
+}
