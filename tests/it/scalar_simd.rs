@@ -126,13 +126,13 @@ fn drop_agrees_within_its_own_chaos() {
 }
 
 /// The drop's final state does not depend on the thread count, with either row solver, and
-/// with contacts found every substep (the `redetect` variant, 80 frames of 20 substeps: the fall
-/// and the first landings). Detection itself runs on one thread below 4096 bodies; the rain's
+/// with contacts found every substep and swept again alone (the `redetect_sweeps` variant, 80
+/// frames of 20 substeps: the fall and the first landings), with either row solver. Detection itself runs on one thread below 4096 bodies; the rain's
 /// test (`ragdoll_rain.rs`) covers its parallel path, which detecting every substep reuses.
 #[test]
 fn drop_is_bit_identical_on_one_and_two_threads() {
     let paper = scene("ragdoll_drop");
-    let redetect = paper.variant("redetect").unwrap();
+    let redetect = paper.variant("redetect_sweeps").unwrap();
     let final_state = |threads: usize, solver: SolverKind, scene: &Scene, frames: u32| {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -160,9 +160,11 @@ fn drop_is_bit_identical_on_one_and_two_threads() {
             "{solver}: the thread count changed the result"
         );
     }
-    assert!(
-        final_state(1, SolverKind::Scalar, &redetect, 80)
-            == final_state(2, SolverKind::Scalar, &redetect, 80),
-        "detecting every substep: the thread count changed the result"
-    );
+    for solver in [SolverKind::Scalar, SolverKind::Simd] {
+        assert!(
+            final_state(1, solver, &redetect, 80) == final_state(2, solver, &redetect, 80),
+            "{solver}, detecting every substep, extra contact sweeps: the thread count changed \
+             the result"
+        );
+    }
 }
