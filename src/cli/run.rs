@@ -96,7 +96,7 @@ pub fn record_scene_from(
 }
 
 /// [`record_scene_from`]; `live` (a viewer watching) sends every frame as it comes instead of
-/// a block per simulated second.
+/// a block per second of wall time.
 fn record_scene_to(
     scene: &Scene,
     rec: rerun::RecordingStream,
