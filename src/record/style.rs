@@ -14,6 +14,11 @@ pub(super) fn spine_color(spine: Option<SpineKind>) -> rerun::Color {
     }
 }
 
+/// The colour of bodies that are not dynamic (fixed or kinematic).
+pub(super) fn fixed_color() -> rerun::Color {
+    rerun::Color::from_rgb(110, 110, 110)
+}
+
 /// The colour of the bones posed by `method`.
 pub(super) fn bone_color(method: BoneMethod) -> rerun::Color {
     match method {

@@ -14,7 +14,7 @@ use super::bodies::{
     shape_poses, sleep_colors, BodyBatch,
 };
 use super::columns::ScalarColumns;
-use super::style::spine_color;
+use super::style::{fixed_color, spine_color};
 use super::tracks::{Track, TrackKind};
 use super::{flush, RecordingInfo, FLUSH_WALL_S};
 use crate::body::{BodyId, BodyKind};
@@ -147,12 +147,7 @@ impl Recorder {
         };
         recorder.log_static(lab, &info)?;
         for batch in &fixed {
-            log_shapes(
-                &recorder.rec,
-                world,
-                batch,
-                vec![rerun::Color::from_rgb(110, 110, 110)],
-            )?;
+            log_shapes(&recorder.rec, world, batch, vec![fixed_color()])?;
             log_static_poses(&recorder.rec, world, batch)?;
         }
         Ok(recorder)
@@ -205,7 +200,7 @@ impl Recorder {
             let color_of = |id: BodyId| {
                 let body = world.body(id);
                 match (body.is_dynamic(), lab.ragdoll_of(id)) {
-                    (false, _) => rerun::Color::from_rgb(110, 110, 110),
+                    (false, _) => fixed_color(),
                     (true, Some(r)) => spine_color(r.spine),
                     (true, None) => rerun::Color::from_rgb(200, 160, 60),
                 }
