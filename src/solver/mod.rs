@@ -342,41 +342,32 @@ impl Solver {
             (self.contact_lanes).pack(&contacts.points, &self.contact_colours, parallel);
             self.profile.contacts += lap(clock);
         }
-        for _ in 0..settings.iterations {
-            if !self.dampers.is_empty() {
-                solve_colours(&mut self.dampers, &self.damper_colours, shared, parallel);
+        // the last `contact_extra_sweeps` passes sweep the contacts alone
+        for pass in 0..settings.iterations + settings.contact_extra_sweeps {
+            if pass < settings.iterations {
+                if !self.dampers.is_empty() {
+                    solve_colours(&mut self.dampers, &self.damper_colours, shared, parallel);
+                    self.profile.joints += lap(clock);
+                }
+                let rod_lanes = simd.then_some(&mut self.rod_lanes);
+                sweep(
+                    &mut self.rods,
+                    &self.rod_colours,
+                    rod_lanes,
+                    shared,
+                    parallel,
+                );
+                self.profile.rods += lap(clock);
+                let joint_lanes = simd.then_some(&mut self.joint_lanes);
+                sweep(
+                    &mut self.joints,
+                    &self.joint_colours,
+                    joint_lanes,
+                    shared,
+                    parallel,
+                );
                 self.profile.joints += lap(clock);
             }
-            let rod_lanes = simd.then_some(&mut self.rod_lanes);
-            sweep(
-                &mut self.rods,
-                &self.rod_colours,
-                rod_lanes,
-                shared,
-                parallel,
-            );
-            self.profile.rods += lap(clock);
-            let joint_lanes = simd.then_some(&mut self.joint_lanes);
-            sweep(
-                &mut self.joints,
-                &self.joint_colours,
-                joint_lanes,
-                shared,
-                parallel,
-            );
-            self.profile.joints += lap(clock);
-            let contact_lanes = simd.then_some(&mut self.contact_lanes);
-            let points = &mut contacts.points;
-            sweep(
-                points,
-                &self.contact_colours,
-                contact_lanes,
-                shared,
-                parallel,
-            );
-            self.profile.contacts += lap(clock);
-        }
-        for _ in 0..settings.contact_extra_sweeps {
             let contact_lanes = simd.then_some(&mut self.contact_lanes);
             let points = &mut contacts.points;
             sweep(

@@ -237,10 +237,12 @@ impl Recorder {
         let names = |names: &[&str]| rerun::SeriesLines::new().with_names(names.to_vec());
         let energy_colors = [(250, 150, 40), (70, 130, 240), (235, 235, 235)]
             .map(|(r, g, b)| rerun::Color::from_rgb(r, g, b));
-        rec.log_static(
-            "metrics/energy",
-            &names(&ENERGY_SERIES).with_colors(energy_colors),
-        )?;
+        if self.options.energy {
+            rec.log_static(
+                "metrics/energy",
+                &names(&ENERGY_SERIES).with_colors(energy_colors),
+            )?;
+        }
         if world.settings.contacts {
             rec.log_static("metrics/contact_depth_cm", &names(&CONTACT_DEPTH_SERIES))?;
         }
