@@ -3,7 +3,7 @@
 
 use crate::body::{Body, BodyId};
 use crate::constraint::Constraint;
-use crate::contact::Contacts;
+use crate::contact::{ContactPoint, Contacts};
 use crate::sleep::Islands;
 use crate::solver::Solver;
 
@@ -202,29 +202,33 @@ impl World {
     /// or a contact deeper than `max_penetration` stops the run.
     pub fn check_health(&self) -> Result<(), SimulationError> {
         let settings = &self.settings;
-        for (index, body) in self.bodies.iter().enumerate() {
-            let finite = body.position.is_finite()
+        let finite = |body: &Body| {
+            body.position.is_finite()
                 && body.orientation.is_finite()
                 && body.linear_velocity.is_finite()
-                && body.angular_velocity.is_finite();
-            let reason = if !finite {
+                && body.angular_velocity.is_finite()
+        };
+        let too_fast = |body: &Body| {
+            body.is_dynamic()
+                && (body.linear_velocity.length() > settings.max_linear_speed
+                    || body.angular_velocity.length() > settings.max_angular_speed)
+        };
+        if let Some(index) = first_where(&self.bodies, |b| !finite(b) || too_fast(b)) {
+            let body = &self.bodies[index];
+            let reason = if !finite(body) {
                 "has a non-finite pose or velocity (NaN or infinity)".to_string()
-            } else if !body.is_dynamic() {
-                continue;
             } else if body.linear_velocity.length() > settings.max_linear_speed {
                 format!(
                     "exploded: speed {:.1} m/s exceeds the bound {} m/s",
                     body.linear_velocity.length(),
                     settings.max_linear_speed
                 )
-            } else if body.angular_velocity.length() > settings.max_angular_speed {
+            } else {
                 format!(
                     "exploded: angular speed {:.1} rad/s exceeds the bound {} rad/s",
                     body.angular_velocity.length(),
                     settings.max_angular_speed
                 )
-            } else {
-                continue;
             };
             return Err(SimulationError {
                 frame: self.frame,
@@ -233,37 +237,40 @@ impl World {
                 reason,
             });
         }
-        for constraint in &self.constraints {
-            let apart = constraint.dislocation(&self.bodies);
-            if apart > settings.max_separation {
-                let body = self.body(constraint.bodies().1);
-                return Err(SimulationError {
-                    frame: self.frame,
-                    body: body.name.clone(),
-                    constraint: Some(constraint.name().to_string()),
-                    reason: format!(
-                        "came apart: \"{}\" is {apart:.3} m apart, beyond the bound max_separation = {} m",
-                        constraint.name(),
-                        settings.max_separation
-                    ),
-                });
-            }
+        let apart = |c: &Constraint| c.dislocation(&self.bodies);
+        let came_apart = |c: &Constraint| apart(c) > settings.max_separation;
+        if let Some(index) = first_where(&self.constraints, came_apart) {
+            let constraint = &self.constraints[index];
+            let body = self.body(constraint.bodies().1);
+            return Err(SimulationError {
+                frame: self.frame,
+                body: body.name.clone(),
+                constraint: Some(constraint.name().to_string()),
+                reason: format!(
+                    "came apart: \"{}\" is {:.3} m apart, beyond the bound max_separation = {} m",
+                    constraint.name(),
+                    apart(constraint),
+                    settings.max_separation
+                ),
+            });
         }
         if settings.contacts {
-            for p in &self.contacts.points {
+            let depth = |p: &ContactPoint| -p.separation(self.body(p.body_a), self.body(p.body_b));
+            let too_deep = |p: &ContactPoint| depth(p) > settings.max_penetration;
+            if let Some(index) = first_where(&self.contacts.points, too_deep) {
+                let p = &self.contacts.points[index];
                 let (a, b) = (self.body(p.body_a), self.body(p.body_b));
-                let depth = -p.separation(a, b);
-                if depth > settings.max_penetration {
-                    return Err(SimulationError {
-                        frame: self.frame,
-                        body: b.name.clone(),
-                        constraint: self.worst_constraint_on(p.body_b),
-                        reason: format!(
-                            "was driven {depth:.3} m into \"{}\", beyond the bound max_penetration = {} m",
-                            a.name, settings.max_penetration
-                        ),
-                    });
-                }
+                return Err(SimulationError {
+                    frame: self.frame,
+                    body: b.name.clone(),
+                    constraint: self.worst_constraint_on(p.body_b),
+                    reason: format!(
+                        "was driven {:.3} m into \"{}\", beyond the bound max_penetration = {} m",
+                        depth(p),
+                        a.name,
+                        settings.max_penetration
+                    ),
+                });
             }
         }
         Ok(())
@@ -294,5 +301,18 @@ impl World {
 impl From<crate::constraint::BallSocket> for Constraint {
     fn from(joint: crate::constraint::BallSocket) -> Self {
         Constraint::BallSocket(joint)
+    }
+}
+
+/// Items from which the health check looks on several threads.
+const PARALLEL_HEALTH: usize = 4096;
+
+/// The index of the first item (in order, whatever the thread count) for which `bad` holds.
+fn first_where<T: Sync>(items: &[T], bad: impl Fn(&T) -> bool + Sync + Send) -> Option<usize> {
+    use rayon::prelude::*;
+    if items.len() >= PARALLEL_HEALTH && rayon::current_num_threads() > 1 {
+        items.par_iter().position_first(bad)
+    } else {
+        items.iter().position(bad)
     }
 }

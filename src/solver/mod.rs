@@ -380,7 +380,7 @@ impl Solver {
             self.profile.contacts += lap(clock);
         }
         if simd {
-            self.contact_lanes.unpack(&mut contacts.points);
+            self.contact_lanes.unpack(&mut contacts.points, parallel);
             self.profile.contacts += lap(clock);
         }
     }

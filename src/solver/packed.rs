@@ -182,15 +182,27 @@ impl<T: LaneRows> Packed<T> {
         }
     }
 
-    /// Hands what the iterations accumulated in the batches back to the rows.
-    pub fn unpack(&self, rows: &mut [T]) {
+    /// Hands what the iterations accumulated in the batches back to the rows (each batch
+    /// writes its own rows only, so large colours do it on several threads).
+    pub fn unpack(&self, rows: &mut [T], parallel: bool) {
+        let unpack = |(batch, rows): (&Option<T::Lanes>, &mut [T])| {
+            if let Some(lanes) = batch {
+                T::unpack(lanes, rows);
+            }
+        };
         for colour in &self.colours {
             let batches = &self.batches[colour.batches.clone()];
             let rows = &mut rows[colour.rows.clone()];
-            for (batch, rows) in batches.iter().zip(rows.chunks_mut(SIMD_WIDTH)) {
-                if let Some(lanes) = batch {
-                    T::unpack(lanes, rows);
-                }
+            if parallel && rows.len() >= 2 * PARALLEL_MIN_ROWS {
+                let pairs = batches.par_iter().zip(rows.par_chunks_mut(SIMD_WIDTH));
+                pairs
+                    .with_min_len(PARALLEL_MIN_ROWS / SIMD_WIDTH)
+                    .for_each(unpack);
+            } else {
+                batches
+                    .iter()
+                    .zip(rows.chunks_mut(SIMD_WIDTH))
+                    .for_each(unpack);
             }
         }
     }
