@@ -1,7 +1,7 @@
 //! The 1000-ragdoll rain (`scenes/ragdoll_rain.toml`): the scene builds, and the full 10 s run
 //! without NaN or explosion for both spines, nothing through the floor and the mean
-//! dislocation under 1 cm per ragdoll, with the scene's 4 substeps of 2 iterations (SIMD) and
-//! contact stacking.
+//! dislocation under 1 cm per ragdoll, with the scene's 4 substeps of 2 iterations (SIMD),
+//! contact stacking and a 100 rad/s angular speed limit.
 //! `cargo test --release --test it ragdoll_rain:: -- --nocapture` prints steps/s.
 
 use rodlab::lab::Lab;
@@ -30,6 +30,8 @@ fn rain(spine: SpineKind, frames: u32) -> (Lab, f32, f32) {
     let settings = &lab.world.settings;
     assert_eq!((settings.substeps, settings.iterations), (4, 2));
     assert_eq!(settings.contact_stacking, 10.0);
+    // the spin guard: without it a rounding-level change spun a limb past the explosion bound
+    assert_eq!(settings.angular_speed_limit, 100.0);
     let mut lowest = f32::INFINITY;
     let mut observer = |lab: &Lab, _: &rodlab::metrics::FrameMetrics| {
         for r in &lab.ragdolls {
