@@ -61,6 +61,8 @@ struct Proxy {
     moved: bool,
     /// The fat box, which contains this step's tight box.
     fat: Aabb,
+    /// The cell of the fat box's lower corner at the last rebuild.
+    low_cell: [i64; 3],
 }
 
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -85,6 +87,7 @@ struct CellBox {
     index: u32,
     flags: Flags,
     fat: Aabb,
+    low_cell: [i64; 3],
 }
 
 /// Entries from which the sort runs on several threads.
@@ -301,7 +304,6 @@ impl BroadPhase {
     fn rebuild(&mut self) {
         self.rebuilds += 1;
         self.enter_cells();
-        let inverse_cell = self.inverse_cell;
         let threads = rayon::current_num_threads();
         let chunks = if threads > 1 && self.entries.len() >= PARALLEL_SORT {
             4 * threads
@@ -317,16 +319,9 @@ impl BroadPhase {
             self.chunk_pairs[..chunks]
                 .par_iter_mut()
                 .enumerate()
-                .for_each(|(c, out)| {
-                    cell_pairs(
-                        &entries[bounds[c]..bounds[c + 1]],
-                        proxies,
-                        inverse_cell,
-                        out,
-                    )
-                });
+                .for_each(|(c, out)| cell_pairs(&entries[bounds[c]..bounds[c + 1]], proxies, out));
         } else {
-            cell_pairs(entries, proxies, inverse_cell, &mut self.chunk_pairs[0]);
+            cell_pairs(entries, proxies, &mut self.chunk_pairs[0]);
         }
         self.fat_pairs.clear();
         for out in &self.chunk_pairs[..chunks] {
@@ -363,6 +358,7 @@ impl BroadPhase {
         self.entries.clear();
         for (index, proxy) in self.proxies.iter_mut().enumerate() {
             let (lo, hi, cells) = cell_span(&proxy.fat, inverse_cell);
+            proxy.low_cell = lo;
             proxy.large = cells > LARGE_CELLS;
             if proxy.large {
                 self.large.push(index as u32);
@@ -458,7 +454,7 @@ impl BroadPhase {
 
 /// The pairs of one run of `entries` (whole cells): each cell's boxes swept along x, each
 /// overlapping pair reported by the cell holding its overlap's lower corner.
-fn cell_pairs(entries: &[(u64, u32)], proxies: &[Proxy], inverse_cell: f32, out: &mut ChunkPairs) {
+fn cell_pairs(entries: &[(u64, u32)], proxies: &[Proxy], out: &mut ChunkPairs) {
     out.pairs.clear();
     let mut start = 0;
     while start < entries.len() {
@@ -478,6 +474,7 @@ fn cell_pairs(entries: &[(u64, u32)], proxies: &[Proxy], inverse_cell: f32, out:
                 index,
                 flags: p.flags,
                 fat: p.fat,
+                low_cell: p.low_cell,
             }
         }));
         group.sort_unstable_by(|a, b| a.fat.min[0].total_cmp(&b.fat.min[0]));
@@ -489,8 +486,11 @@ fn cell_pairs(entries: &[(u64, u32)], proxies: &[Proxy], inverse_cell: f32, out:
                 if !a.flags.may_touch(b.flags) || !a.fat.overlaps(&b.fat) {
                     continue;
                 }
-                // the overlap's lower corner decides the one cell that reports the pair
-                if corner_cell(&a.fat, &b.fat, inverse_cell) == cell_key {
+                // the overlap's lower corner decides the one cell that reports the pair: the
+                // cell of the larger lower bound on each axis (the cell index is monotonic in
+                // the coordinate, so this is `corner_cell` without its three conversions)
+                let corner = [0, 1, 2].map(|k| a.low_cell[k].max(b.low_cell[k]));
+                if key(corner) == cell_key {
                     out.pairs.push((a.index.min(b.index), a.index.max(b.index)));
                 }
             }
