@@ -76,12 +76,13 @@ pub struct Colouring {
 impl Colouring {
     /// Colours `rows` (reordering them by colour) and fills `colours`. `bodies_of` gives a
     /// row's two body indices, `movable[i]` whether body i can move. `scratch` is reused space
-    /// of the same row type.
+    /// of the same row type: the rows are placed into it by colour and the two swapped, so each
+    /// row is copied once (the rain's 20 000 contact points are 3.5 MB).
     #[allow(clippy::too_many_arguments)]
     pub fn colour<T: Copy>(
         &mut self,
         order: Order,
-        rows: &mut [T],
+        rows: &mut Vec<T>,
         scratch: &mut Vec<T>,
         colours: &mut Colours,
         movable: &[bool],
@@ -138,12 +139,17 @@ impl Colouring {
             *count = start; // now the next free slot of this colour
         }
         scratch.clear();
-        scratch.extend_from_slice(rows);
-        for (row, &colour) in scratch.iter().zip(&self.colour_of) {
+        scratch.reserve(rows.len());
+        let places = &mut scratch.spare_capacity_mut()[..rows.len()];
+        for (row, &colour) in rows.iter().zip(&self.colour_of) {
             let slot = &mut self.counts[colour as usize];
-            rows[*slot as usize] = *row;
+            places[*slot as usize].write(*row);
             *slot += 1;
         }
+        // SAFETY: the slots of the colours partition 0..rows.len() (each colour's run starts
+        // where the last one's ends and holds its count), so every place was written once
+        unsafe { scratch.set_len(rows.len()) };
+        std::mem::swap(rows, scratch);
     }
 }
 
