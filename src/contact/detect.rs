@@ -6,6 +6,7 @@
 //! The narrow phase runs the pairs in chunks on several threads, each chunk into its own reused
 //! buffer, concatenated in pair order, so the points come out the same for any thread count.
 
+use super::broadphase::gaps::{self, Motion};
 use super::broadphase::BroadPhase;
 use super::collider::{self, Collider, PARALLEL_BODIES};
 use super::feature::Feature;
@@ -17,8 +18,11 @@ use crate::constraint::Constraint;
 /// What detection keeps from step to step (reused storage, and the broad phase's pairs).
 #[derive(Clone, Debug, Default)]
 pub struct Detection {
-    /// What detection reads of each body this step.
+    /// What detection reads of each body this step, and read last step.
     colliders: Vec<Collider>,
+    previous: Vec<Collider>,
+    /// How each body moved since last step ([`gaps`]).
+    motions: Vec<Motion>,
     handover: Handover,
     broad_phase: BroadPhase,
     /// The candidate pairs after the broad phase's kept ones ([`BroadPhase::report_others`]).
@@ -29,6 +33,8 @@ pub struct Detection {
     excluded: Vec<u32>,
     excluded_start: Vec<u32>,
     excluded_for: usize,
+    /// Pairs the gap bounds skipped at the last detection.
+    skipped: usize,
 }
 
 impl Detection {
@@ -46,9 +52,12 @@ impl Detection {
         }
         // last step's points handed over beside the records and the broad phase (independent)
         let (handover, colliders) = (&mut self.handover, &mut self.colliders);
+        let (previous, motions) = (&mut self.previous, &mut self.motions);
         let (broad_phase, others) = (&mut self.broad_phase, &mut self.others);
         let mut broad = move || {
+            std::mem::swap(colliders, previous);
             collider::build(bodies, colliders);
+            measure_motions(previous, colliders, motions);
             // the kept pairs are reported chunk by chunk inside the narrow phase's parallel
             // loop; the few others (large boxes', half-spaces') are listed now, to come last
             others.clear();
@@ -84,24 +93,44 @@ impl Detection {
             dt,
             margin,
         };
+        // the kept pairs' gap bounds, a run of `chunk_len` per chunk (the last ones padded)
+        let mut bounds = self.broad_phase.take_gaps();
+        bounds.resize(chunks * chunk_len, gaps::UNKNOWN);
         let (broad_phase, others) = (&self.broad_phase, &self.others);
+        let motions = &self.motions;
         // chunk c: candidates c * chunk_len.. of the kept pairs followed by the others
-        let run = |c: usize, out: &mut ChunkOut| {
+        let run = |c: usize, out: &mut ChunkOut, bounds: &mut [f32]| {
             out.points.clear();
+            out.skipped = 0;
             let range = (c * chunk_len).min(total)..((c + 1) * chunk_len).min(total);
             let collide = |a: u32, b: u32| found.collide(a, b, out);
-            broad_phase.report_kept(range.start.min(kept)..range.end.min(kept), collide);
+            let kept_range = range.start.min(kept)..range.end.min(kept);
+            let bounds = &mut bounds[..kept_range.len()];
+            let reach = (margin, dt);
+            out.skipped =
+                broad_phase.report_kept_bounded(kept_range, bounds, motions, reach, collide);
             for &(a, b) in &others[range.start.max(kept) - kept..range.end.max(kept) - kept] {
                 found.collide(a, b, out);
             }
         };
         if chunks > 1 {
             use rayon::prelude::*;
-            (self.chunks[..chunks].par_iter_mut().enumerate()).for_each(|(c, out)| run(c, out));
+            let each = self.chunks[..chunks]
+                .par_iter_mut()
+                .zip(bounds.par_chunks_mut(chunk_len));
+            each.enumerate().for_each(|(c, (out, b))| run(c, out, b));
         } else {
-            run(0, &mut self.chunks[0]);
+            run(0, &mut self.chunks[0], &mut bounds);
         }
+        self.broad_phase.restore_gaps(bounds);
+        self.skipped = self.chunks[..chunks].iter().map(|c| c.skipped).sum();
         concatenate(&self.chunks[..chunks], points);
+    }
+
+    /// How many candidate pairs the last detection skipped as proven out of reach
+    /// ([`gaps`]): pairs whose boxes overlap but whose shapes cannot make a point.
+    pub fn pairs_skipped(&self) -> usize {
+        self.skipped
     }
 
     /// Rebuilds the per-body lists of joined bodies (each pair under its lower body index).
@@ -161,6 +190,8 @@ fn concatenate(chunks: &[ChunkOut], points: &mut Vec<ContactPoint>) {
 struct ChunkOut {
     points: Vec<ContactPoint>,
     features: Vec<Feature>,
+    /// Pairs whose gap bound proved them out of reach this step.
+    skipped: usize,
 }
 
 /// What the narrow phase of one pair reads.
@@ -174,18 +205,19 @@ struct PairContext<'a> {
 }
 
 impl PairContext<'_> {
-    /// The contact points of the pair (a, b) (filtered, then the narrow phase) onto `out`.
-    fn collide(&self, a: u32, b: u32, out: &mut ChunkOut) {
+    /// The contact points of the pair (a, b) (filtered, then the narrow phase) onto `out`, and
+    /// a lower bound on the distance of its shapes if it made none ([`gaps`]).
+    fn collide(&self, a: u32, b: u32, out: &mut ChunkOut) -> f32 {
         let (first, last) = (a.min(b) as usize, a.max(b));
         let range = self.excluded_start[first] as usize..self.excluded_start[first + 1] as usize;
         if self.excluded[range].contains(&last) {
-            return;
+            return gaps::UNKNOWN;
         }
         let (ca, cb) = (&self.colliders[a as usize], &self.colliders[b as usize]);
         if ca.collision_group & cb.collision_mask == 0
             || cb.collision_group & ca.collision_mask == 0
         {
-            return;
+            return gaps::UNKNOWN;
         }
         // how far the two surfaces may close this frame: the relative speed of the centres
         // plus what spin adds at the farthest surface point (a limb spinning at 20 rad/s
@@ -195,7 +227,7 @@ impl PairContext<'_> {
         let reach = self.margin + self.dt * closing;
         out.features.clear();
         if !narrowphase::collide(ca, cb, reach, &mut out.features) {
-            return;
+            return narrowphase::capsule_gap(ca, cb);
         }
         let static_friction = (ca.static_friction * cb.static_friction).sqrt();
         let dynamic_friction = (ca.dynamic_friction * cb.dynamic_friction).sqrt();
@@ -232,5 +264,22 @@ impl PairContext<'_> {
                 ..ContactPoint::UNSOLVED
             });
         }
+        gaps::UNKNOWN
+    }
+}
+
+/// Each body's motion from its record last step to this step's (unknown for all when the
+/// bodies changed), on several threads for a large world.
+fn measure_motions(previous: &[Collider], now: &[Collider], motions: &mut Vec<Motion>) {
+    motions.clear();
+    if previous.len() != now.len() {
+        motions.resize(now.len(), Motion::UNKNOWN);
+    } else if now.len() >= PARALLEL_BODIES && rayon::current_num_threads() > 1 {
+        use rayon::prelude::*;
+        let each = previous.par_iter().zip(now);
+        motions.par_extend(each.map(|(before, now)| Motion::between(before, now)));
+    } else {
+        let each = previous.iter().zip(now);
+        motions.extend(each.map(|(before, now)| Motion::between(before, now)));
     }
 }

@@ -234,6 +234,12 @@ impl Contacts {
             .detect(&mut self.points, bodies, constraints, dt, margin);
     }
 
+    /// How many candidate pairs the last detection skipped as proven out of reach (their
+    /// shapes' distance bound, carried from step to step: [`broadphase::gaps`]).
+    pub fn pairs_skipped(&self) -> usize {
+        self.detection.pairs_skipped()
+    }
+
     /// Starts a substep: the accumulated impulses count one substep's pushes (the projection's
     /// `total >= 0` clamp and the friction cone are per substep, as the preview restarts from
     /// the current pose). A point's friction anchors last while it sticks; from the second

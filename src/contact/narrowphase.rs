@@ -58,6 +58,22 @@ pub fn capsule_capsule(a: &Collider, b: &Collider, margin: f32, out: &mut Vec<Fe
     segment_pairs(parallel, (a0, a1), (b0, b1), push);
 }
 
+/// A lower bound on the distance (m) between the surfaces of two spheres or capsules, for a pair
+/// that made no point ([`super::broadphase::gaps`]): the bounding spheres' gap when that alone
+/// is large, else the segments' distance less the radii (what `capsule_capsule` measures).
+/// [`f32::NEG_INFINITY`] for other shapes.
+pub fn capsule_gap(a: &Collider, b: &Collider) -> f32 {
+    let (Some((a0, a1, ra)), Some((b0, b1, rb))) = (a.segment(), b.segment()) else {
+        return f32::NEG_INFINITY;
+    };
+    let spheres = (b.position - a.position).length() - a.bounding_radius - b.bounding_radius;
+    if spheres > 0.1 {
+        return spheres;
+    }
+    let (pa, pb) = closest_points_on_segments(a0, a1, b0, b1);
+    (pb - pa).length() - ra - rb
+}
+
 /// The closest points of two segments, as (point on a, point on b, id) handed to `push`: one
 /// pair, or where the segments are `parallel` and overlap, the two ends of the overlap of b's
 /// segment projected on a's (ids 1 and 2).

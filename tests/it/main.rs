@@ -5,6 +5,7 @@
 mod chain;
 mod common;
 mod conservation;
+mod contact_gaps;
 mod contacts;
 mod controllability;
 mod humanoid;

@@ -33,8 +33,13 @@
 //! about linearly with the number of bodies for any layout where bodies do not all crowd into
 //! a few cells (see the `contact_detection` benchmark). A one-axis sweep, which this replaced,
 //! grows as `n^1.5` on a square floor of ragdolls.
+//!
+//! Each kept pair also carries a lower bound on its shapes' distance ([`gaps`]), so the narrow
+//! phase can skip pairs whose boxes overlap but whose shapes are proven out of reach.
 
+pub mod gaps;
 mod grid;
+mod report;
 #[cfg(test)]
 mod tests;
 
@@ -128,6 +133,11 @@ pub struct BroadPhase {
     chunk_pairs: Vec<ChunkPairs>,
     /// Proxy index pairs (lower first) of overlapping fat boxes that may touch, sorted.
     fat_pairs: Vec<(u32, u32)>,
+    /// Each fat pair's lower bound on its shapes' distance ([`gaps`]).
+    gaps: Vec<f32>,
+    /// Scratch: the fat pairs and bounds before a rebuild or merge, to carry the bounds over.
+    old_pairs: Vec<(u32, u32)>,
+    old_gaps: Vec<f32>,
     /// Scratch: the pairs found for the bodies moved this step, and the merge.
     found: Vec<(u32, u32)>,
     merged: Vec<(u32, u32)>,
@@ -161,6 +171,8 @@ impl BroadPhase {
     pub fn update(&mut self, bodies: &[Collider], dt: f32, margin: f32) -> bool {
         let mut rebuild = false;
         if self.proxies.len() + self.half_spaces.len() != bodies.len() {
+            self.fat_pairs.clear(); // indices into the old proxies: their bounds mean nothing now
+            self.gaps.clear();
             self.proxies.clear();
             self.half_spaces.clear();
             for (i, body) in bodies.iter().enumerate() {
@@ -251,8 +263,9 @@ impl BroadPhase {
         }
         let proxies = &self.proxies;
         let is_moved = |i: u32| proxies[i as usize].moved;
-        self.fat_pairs
-            .retain(|&(a, b)| !(is_moved(a) || is_moved(b)));
+        gaps::retain(&mut self.fat_pairs, &mut self.gaps, |a, b| {
+            !(is_moved(a) || is_moved(b))
+        });
         self.found.clear();
         for &m in &self.moved {
             let a = &proxies[m as usize];
@@ -296,7 +309,14 @@ impl BroadPhase {
         }
         self.found.sort_unstable();
         merge_sorted(&self.fat_pairs, &self.found, &mut self.merged);
+        gaps::carry(
+            &self.fat_pairs,
+            &self.gaps,
+            &self.merged,
+            &mut self.old_gaps,
+        );
         std::mem::swap(&mut self.fat_pairs, &mut self.merged);
+        std::mem::swap(&mut self.gaps, &mut self.old_gaps);
         true
     }
 
@@ -323,6 +343,8 @@ impl BroadPhase {
         } else {
             cell_pairs(entries, proxies, &mut self.chunk_pairs[0]);
         }
+        std::mem::swap(&mut self.fat_pairs, &mut self.old_pairs);
+        std::mem::swap(&mut self.gaps, &mut self.old_gaps);
         self.fat_pairs.clear();
         for out in &self.chunk_pairs[..chunks] {
             self.fat_pairs.extend_from_slice(&out.pairs);
@@ -333,6 +355,12 @@ impl BroadPhase {
         } else {
             self.fat_pairs.sort_unstable();
         }
+        gaps::carry(
+            &self.old_pairs,
+            &self.old_gaps,
+            &self.fat_pairs,
+            &mut self.gaps,
+        );
     }
 
     /// Fresh fat boxes, the cell edge from the movable bodies' sizes, and every small box
@@ -398,56 +426,6 @@ impl BroadPhase {
         self.bounds.push(self.entries.len());
         if self.chunk_pairs.len() < chunks {
             self.chunk_pairs.resize_with(chunks, ChunkPairs::default);
-        }
-    }
-
-    /// How many fat pairs are kept: [`Self::report_kept`]'s range.
-    pub fn kept_len(&self) -> usize {
-        self.fat_pairs.len()
-    }
-
-    /// Reports the kept pairs `range` (of [`Self::kept_len`]) whose tight boxes overlap, in
-    /// order: ranges that split the kept pairs report them in parts, on several threads.
-    pub fn report_kept(&self, range: std::ops::Range<usize>, mut pair: impl FnMut(u32, u32)) {
-        let (proxies, tight) = (&self.proxies, &self.tight);
-        for &(a, b) in &self.fat_pairs[range] {
-            if tight[a as usize].overlaps(&tight[b as usize]) {
-                pair(proxies[a as usize].body, proxies[b as usize].body);
-            }
-        }
-    }
-
-    /// Reports the pairs after the kept ones: the large boxes' and the half-spaces'.
-    pub fn report_others(&self, bodies: &[Collider], mut pair: impl FnMut(u32, u32)) {
-        let (proxies, tight) = (&self.proxies, &self.tight);
-        for (i, &large) in self.large.iter().enumerate() {
-            let a = &proxies[large as usize];
-            for (index, b) in proxies.iter().enumerate() {
-                // large-large pairs once, from the earlier of the two in `large`
-                let other_large = self.large.binary_search(&(index as u32));
-                if index as u32 == large || other_large.is_ok_and(|j| j <= i) {
-                    continue;
-                }
-                if a.flags.may_touch(b.flags) && tight[large as usize].overlaps(&tight[index]) {
-                    pair(a.body.min(b.body), a.body.max(b.body));
-                }
-            }
-        }
-        for &plane in &self.half_spaces {
-            let plane_body = &bodies[plane as usize];
-            let normal = plane_body.orientation * Vec3::Y;
-            let height = normal.dot(plane_body.position);
-            for (proxy, tight) in proxies.iter().zip(tight) {
-                if !(proxy.flags.dynamic && proxy.flags.active) {
-                    continue;
-                }
-                // the box's lowest corner along the normal: above the plane, no contact
-                let centre = 0.5 * (Vec3::from(tight.min) + Vec3::from(tight.max));
-                let half = 0.5 * (Vec3::from(tight.max) - Vec3::from(tight.min));
-                if normal.dot(centre) - normal.abs().dot(half) <= height {
-                    pair(plane, proxy.body);
-                }
-            }
         }
     }
 }
