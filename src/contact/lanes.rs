@@ -8,64 +8,83 @@
 //!    accumulated friction stays within `mu_s P_n` (sticking), else at most `mu_d P_n` in all
 //!    (sliding, which clears the point's `sticking` flag).
 //!
+//! The substep's start, the warm start and the velocity pass on the same lanes:
+//! `lanes_substep.rs`.
+//!
 //! An inactive lane applies a zero impulse, which leaves its bodies as they were (the
 //! orientation is rebuilt from the same predicted orientation and correction).
 
 use super::ContactPoint;
-use crate::lanes::{body_indices, padded, BodyLanes, Lane, MAX_LANES, V3};
+use crate::lanes::{body_indices, not, padded, BodyLanes, Lane, MAX_LANES, V3};
 use crate::solver_body::SharedBodies;
 
-/// Solves `L::W` points at once: packed, solved once, unpacked (the solver packs once a
-/// substep and solves the packed batch every iteration).
+/// Solves `L::W` points at once: packed, solved once, unpacked (the solver packs once a frame
+/// and solves the packed batch every iteration).
 pub fn solve_lanes<L: Lane>(rows: &mut [ContactPoint], bodies: SharedBodies) {
     let mut lanes = ContactLanes::<L>::pack(rows);
     lanes.solve(bodies);
     lanes.unpack(rows);
 }
 
-/// `L::W` contact points of one colour in lanes: what a solve reads, packed once a substep
-/// (nothing here changes between iterations), and the impulses the iterations accumulate,
-/// which [`ContactLanes::unpack`] hands back to the points (Box2D v3's
-/// `b2ContactConstraintSIMD`). Reading the points' fields into lanes each iteration cost
-/// about as much as the solve's arithmetic.
+/// `L::W` contact points of one colour in lanes (Box2D v3's `b2ContactConstraintSIMD`): the
+/// whole point, packed once a frame (or once a detection) and kept through the frame's
+/// substeps. Each substep begins the lanes ([`ContactLanes::begin_substep`]), the iterations
+/// solve them, and the velocity pass runs on them; [`ContactLanes::unpack`] hands everything
+/// back to the points at the frame's end. Reading the points' fields into lanes each
+/// iteration cost about as much as the solve's arithmetic; packing and unpacking them each
+/// substep, with the substep's start and the velocity pass one point at a time, a sixth of the
+/// 1000-ragdoll rain's frame.
 #[derive(Clone, Copy, Debug)]
 pub struct ContactLanes<L> {
-    index_a: [u32; MAX_LANES],
-    index_b: [u32; MAX_LANES],
-    normal: V3<L>,
-    local_a: V3<L>,
-    local_b: V3<L>,
-    arm_a: V3<L>,
-    arm_b: V3<L>,
-    anchor_a: V3<L>,
-    anchor_b: V3<L>,
-    static_friction: L,
-    dynamic_friction: L,
-    allowed_penetration: L,
+    /// The batch's own rows (lanes past them repeat the first).
+    pub(super) rows: u8,
+    pub(super) index_a: [u32; MAX_LANES],
+    pub(super) index_b: [u32; MAX_LANES],
+    pub(super) normal: V3<L>,
+    pub(super) local_a: V3<L>,
+    pub(super) local_b: V3<L>,
+    pub(super) arm_a: V3<L>,
+    pub(super) arm_b: V3<L>,
+    pub(super) anchor_a: V3<L>,
+    pub(super) anchor_b: V3<L>,
+    pub(super) static_friction: L,
+    pub(super) dynamic_friction: L,
+    pub(super) restitution: L,
+    pub(super) approach_speed: L,
+    pub(super) allowed_penetration: L,
     /// Whether any point is soft; a batch of hard points (the paper's projection) skips the
     /// soft terms, which would add exact zeros.
-    soft: bool,
-    compliance: L,
-    damping: L,
-    start_separation: L,
+    pub(super) soft: bool,
+    pub(super) compliance: L,
+    pub(super) damping: L,
+    pub(super) start_separation: L,
     /// Stacking's inverse-mass scales ([`super::Stacking`]); a batch without any skips them.
-    stacked: bool,
-    mass_scale_a: L,
-    mass_scale_b: L,
-    normal_impulse: L,
-    friction_impulse: L,
-    /// Lanes that slid in some iteration (their points stop sticking).
-    slid: L,
+    pub(super) stacked: bool,
+    pub(super) mass_scale_a: L,
+    pub(super) mass_scale_b: L,
+    pub(super) normal_impulse: L,
+    pub(super) warm_impulse: L,
+    pub(super) friction_impulse: L,
+    /// Masks: the point has pushed this frame; it has stuck through the substep.
+    pub(super) touched: L,
+    pub(super) sticking: L,
+}
+
+/// A mask lane per flag.
+#[inline(always)]
+fn mask<L: Lane>(mut flag: impl FnMut(usize) -> bool) -> L {
+    L::from_fn(|i| flag(i) as u32 as f32).gt(L::zero())
 }
 
 impl<L: Lane> ContactLanes<L> {
     /// One to `L::W` points sharing no movable body (lanes past the last repeat the first:
-    /// [`padded`]), at the start of a substep's iterations.
+    /// [`padded`]).
     pub fn pack(rows: &[ContactPoint]) -> Self {
         assert!((1..=L::W).contains(&rows.len()), "a batch is one to W rows");
         let row = |i: usize| padded(rows, i);
         let (index_a, index_b) = body_indices::<L, _>(rows, |p| (p.body_a.0, p.body_b.0));
         ContactLanes {
+            rows: rows.len() as u8,
             index_a,
             index_b,
             normal: V3::from_fn(|i| row(i).normal),
@@ -77,6 +96,8 @@ impl<L: Lane> ContactLanes<L> {
             anchor_b: V3::from_fn(|i| row(i).anchor_b),
             static_friction: L::from_fn(|i| row(i).static_friction),
             dynamic_friction: L::from_fn(|i| row(i).dynamic_friction),
+            restitution: L::from_fn(|i| row(i).restitution),
+            approach_speed: L::from_fn(|i| row(i).approach_speed),
             allowed_penetration: L::from_fn(|i| row(i).allowed_penetration),
             soft: rows.iter().any(|r| r.compliance != 0.0 || r.damping != 0.0),
             compliance: L::from_fn(|i| row(i).compliance),
@@ -88,20 +109,30 @@ impl<L: Lane> ContactLanes<L> {
             mass_scale_a: L::from_fn(|i| row(i).mass_scale_a),
             mass_scale_b: L::from_fn(|i| row(i).mass_scale_b),
             normal_impulse: L::from_fn(|i| row(i).normal_impulse),
+            warm_impulse: L::from_fn(|i| row(i).warm_impulse),
             friction_impulse: L::from_fn(|i| row(i).friction_impulse),
-            slid: L::zero(),
+            touched: mask(|i| row(i).touched),
+            sticking: mask(|i| row(i).sticking),
         }
     }
 
-    /// Hands the accumulated impulses, and whether a point slid, back to the points (the
-    /// batch's own: repeated lanes are dropped).
+    /// Hands the points back their state: anchors, impulses, flags and the substep's constants
+    /// (the batch's own: repeated lanes are dropped).
     pub fn unpack(&self, rows: &mut [ContactPoint]) {
         for (i, p) in rows.iter_mut().enumerate().take(L::W) {
+            p.anchor_a = self.anchor_a.lane(i);
+            p.anchor_b = self.anchor_b.lane(i);
+            p.allowed_penetration = self.allowed_penetration.lane(i);
+            p.compliance = self.compliance.lane(i);
+            p.damping = self.damping.lane(i);
+            p.start_separation = self.start_separation.lane(i);
+            p.mass_scale_a = self.mass_scale_a.lane(i);
+            p.mass_scale_b = self.mass_scale_b.lane(i);
             p.normal_impulse = self.normal_impulse.lane(i);
+            p.warm_impulse = self.warm_impulse.lane(i);
             p.friction_impulse = self.friction_impulse.lane(i);
-            if self.slid.lane(i).to_bits() != 0 {
-                p.sticking = false;
-            }
+            p.touched = self.touched.lane(i).to_bits() != 0;
+            p.sticking = self.sticking.lane(i).to_bits() != 0;
         }
     }
 
@@ -170,7 +201,7 @@ impl<L: Lane> ContactLanes<L> {
                 .max(zero)
                 .min(needed);
             let applied = active.select(within.select(needed, sliding), zero);
-            self.slid = self.slid | (active & limit.lt(friction_impulse + needed));
+            self.sticking = self.sticking & not(active & limit.lt(friction_impulse + needed));
             a.apply_positional_impulse(t.scale(applied * sa), ra);
             b.apply_positional_impulse(t.scale(-(applied * sb)), rb);
             self.friction_impulse = friction_impulse + applied.max(zero);

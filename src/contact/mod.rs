@@ -36,11 +36,14 @@ pub mod detect;
 pub mod feature;
 pub mod handover;
 pub mod lanes;
+mod lanes_substep;
 pub mod manifold;
 pub mod narrowphase;
 mod softness;
+mod substep;
 
 pub use softness::{Softness, Stacking};
+pub use substep::SubstepStart;
 
 use crate::body::{Body, BodyId};
 use crate::constraint::Constraint;
@@ -271,48 +274,36 @@ impl Contacts {
         soft: Softness,
         stacking: Stacking,
     ) {
+        let start = self.start_substep(h, push_speed, soft, stacking);
+        let begin = |point: &mut ContactPoint| point.begin_substep(bodies, &start);
+        if self.points.len() >= PARALLEL_PAIRS && rayon::current_num_threads() > 1 {
+            use rayon::prelude::*;
+            self.points.par_iter_mut().for_each(begin);
+        } else {
+            self.points.iter_mut().for_each(begin);
+        }
+    }
+
+    /// The constants of a new substep for [`ContactPoint::begin_substep`] (whether it is the
+    /// frame's first counts from the last detection); the SIMD solver begins its packed points
+    /// from them ([`lanes`]).
+    pub fn start_substep(
+        &mut self,
+        h: f32,
+        push_speed: f32,
+        soft: Softness,
+        stacking: Stacking,
+    ) -> SubstepStart {
         let (compliance, damping) = soft.substep_constants(h);
         let first = self.substeps_begun == 0;
         self.substeps_begun += 1;
-        let start = |point: &mut ContactPoint| {
-            // the separation at the substep's start, read only when the push cap or damping
-            // needs it (the paper's contacts use neither)
-            let separation = (push_speed.is_finite() || damping > 0.0).then(|| {
-                let (a, b) = (&bodies[point.body_a.index()], &bodies[point.body_b.index()]);
-                point.separation_at(a, b)
-            });
-            point.allowed_penetration = match (separation, push_speed.is_finite()) {
-                (Some(s), true) => (-s - push_speed * h).max(0.0),
-                _ => 0.0,
-            };
-            (point.compliance, point.damping) = (compliance, damping);
-            (point.mass_scale_a, point.mass_scale_b) = match stacking.rate {
-                0.0 => (1.0, 1.0),
-                _ => stacking.scales(
-                    bodies[point.body_a.index()].position,
-                    bodies[point.body_b.index()].position,
-                ),
-            };
-            point.start_separation = match (separation, damping > 0.0) {
-                (Some(s), true) => s + point.allowed_penetration,
-                _ => 0.0,
-            };
-            // re-anchor a point that slid, or that has not touched yet this frame
-            point.touched |= point.normal_impulse > 0.0;
-            if !first && (!point.touched || !point.sticking) {
-                let (a, b) = (&bodies[point.body_a.index()], &bodies[point.body_b.index()]);
-                (point.anchor_a, point.anchor_b) = manifold::fresh_anchors(point, a, b);
-                point.sticking = true;
-            }
-            point.warm_impulse = point.normal_impulse;
-            point.normal_impulse = 0.0;
-            point.friction_impulse = 0.0;
-        };
-        if self.points.len() >= PARALLEL_PAIRS && rayon::current_num_threads() > 1 {
-            use rayon::prelude::*;
-            self.points.par_iter_mut().for_each(start);
-        } else {
-            self.points.iter_mut().for_each(start);
+        SubstepStart {
+            h,
+            push_speed,
+            compliance,
+            damping,
+            stacking,
+            first,
         }
     }
 
@@ -323,20 +314,8 @@ impl Contacts {
     /// a fall once, and repeating it next substep would throw the body back.
     pub fn warm_start(&mut self, bodies: &mut [SolverBody], fraction: f32, impact_speed: f32) {
         for point in &mut self.points {
-            let resting = point.approach_speed >= -impact_speed;
-            point.warm_impulse *= if resting { fraction } else { 0.0 };
-            if point.warm_impulse <= 0.0 {
-                continue;
-            }
             let (a, b) = pair_mut(bodies, point.body_a.index(), point.body_b.index());
-            let impulse = point.warm_impulse * point.normal;
-            if a.inverse_mass != 0.0 {
-                a.apply_positional_impulse(-point.mass_scale_a * impulse, point.arm_a);
-            }
-            if b.inverse_mass != 0.0 {
-                b.apply_positional_impulse(point.mass_scale_b * impulse, point.arm_b);
-            }
-            point.normal_impulse = point.warm_impulse;
+            point.warm_start(a, b, fraction, impact_speed);
         }
     }
 
@@ -369,7 +348,7 @@ impl Contacts {
         let shared = SharedSlice::new(bodies);
         // SAFETY: within an independent colour no two points share an awake dynamic body, the
         // only bodies written; the others run on this thread one at a time.
-        let pass = |p: &ContactPoint| unsafe { velocity_pass_point(p, shared, threshold) };
+        let pass = |p: &ContactPoint| unsafe { p.velocity_pass(shared, threshold) };
         let parallel = rayon::current_num_threads() > 1;
         for (range, independent) in colours {
             let points = &self.points[range];
@@ -413,57 +392,5 @@ impl Contacts {
 /// A colour with at least this many points runs its velocity pass on several threads.
 const PARALLEL_VELOCITY_POINTS: usize = 1024;
 
-/// [`Contacts::velocity_pass`] of one point that pushed: its relative normal velocity to the
-/// bounce, or to zero (a soft contact, [`Softness`], keeps its spring's velocity unless it
-/// bounces). A sleeping body counts as immovable; only awake dynamic bodies change.
-///
-/// # Safety
-/// No other thread may access the point's awake dynamic bodies meanwhile, nor write its others.
-unsafe fn velocity_pass_point(p: &ContactPoint, bodies: SharedSlice<Body>, threshold: f32) {
-    if p.normal_impulse <= 0.0 {
-        return;
-    }
-    let (pa, pb) = (bodies.ptr(p.body_a.index()), bodies.ptr(p.body_b.index()));
-    let (ra, rb) = (p.arm_a, p.arm_b);
-    let impulse = {
-        let (a, b) = (&*pa, &*pb);
-        let now = relative_normal_velocity(a, b, a.position + ra, b.position + rb, p.normal);
-        let bounce = p.restitution > 0.0 && p.approach_speed < -threshold;
-        // a soft contact is a damped spring: its velocity is the spring's, not a projection's
-        if !bounce && p.compliance > 0.0 {
-            return;
-        }
-        let target = if bounce {
-            -p.restitution * p.approach_speed
-        } else {
-            0.0
-        };
-        let change = target - now;
-        let inverse_mass = |body: &Body, r| match body.asleep {
-            true => 0.0,
-            false => body.positional_inverse_mass(r, p.normal),
-        };
-        let w = p.mass_scale_a * inverse_mass(a, ra) + p.mass_scale_b * inverse_mass(b, rb);
-        if change == 0.0 || w <= 0.0 {
-            return;
-        }
-        (change / w) * p.normal
-    };
-    if (*pa).is_awake_dynamic() {
-        (*pa).apply_velocity_impulse(-p.mass_scale_a * impulse, ra);
-    }
-    if (*pb).is_awake_dynamic() {
-        (*pb).apply_velocity_impulse(p.mass_scale_b * impulse, rb);
-    }
-}
-
-/// Velocity of b's point minus a's along `normal` (m/s).
-fn relative_normal_velocity(a: &Body, b: &Body, point_a: Vec3, point_b: Vec3, normal: Vec3) -> f32 {
-    let velocity = |body: &Body, point: Vec3| {
-        body.linear_velocity + body.angular_velocity.cross(point - body.position)
-    };
-    (velocity(b, point_b) - velocity(a, point_a)).dot(normal)
-}
-
 /// Pairs with at least this many candidates run the narrow phase on several threads.
-const PARALLEL_PAIRS: usize = 2048;
+pub(crate) const PARALLEL_PAIRS: usize = 2048;

@@ -159,6 +159,8 @@ pub trait Lane:
     fn atan2(self, x: Self) -> Self;
     /// Per-lane sine and cosine of `self` (rad).
     fn sin_cos(self) -> (Self, Self);
+    /// Per-lane `e^self`.
+    fn exp(self) -> Self;
     /// Whether any lane of the mask is set.
     fn any(self) -> bool;
 
@@ -239,6 +241,10 @@ macro_rules! impl_lane {
             #[inline(always)]
             fn sin_cos(self) -> (Self, Self) {
                 <$t>::sin_cos(self)
+            }
+            #[inline(always)]
+            fn exp(self) -> Self {
+                <$t>::exp(self)
             }
             #[inline(always)]
             fn any(self) -> bool {

@@ -19,7 +19,10 @@
 //!    rods keep their stored order (solving colour by colour is exactly the paper's sequential
 //!    sweep); contact points, whose order is only the broad phase's, take the greedy colouring
 //!    (few, full colours). Either way both solvers sweep the same reordered rows, so the scalar
-//!    and SIMD solvers compute the same thing;
+//!    and SIMD solvers compute the same thing. The SIMD solver packs the contact points into
+//!    lanes here, where they stay through the frame's substeps (each substep's start, warm
+//!    start, iterations and velocity pass run on the lanes: [`packed_contacts`]) until they are
+//!    unpacked at the frame's end;
 //! 3. for each substep (with [`ContactDetection::Substep`], after contact detection at the
 //!    substep's starting poses, with the reach of one substep, and the points coloured as in
 //!    step 2; points found again keep their impulses and anchors, as from frame to frame):
@@ -28,7 +31,9 @@
 //!       damping, if any, then the angular speed limit, if any
 //!       ([`Settings::angular_speed_limit`]);
 //!    2. predict the preview poses `p* = p + h v`, `q* = exp(h w) q` (exact exponential map)
-//!       into the hot [`SolverBody`] array, with each body's world inverse inertia there;
+//!       into the hot [`SolverBody`] array, with each body's world inverse inertia there (the
+//!       SIMD solver does 3.1-3.2 and 3.4 for [`SIMD_WIDTH`] bodies at a time:
+//!       [`integrate_lanes`]);
 //!       take the rows' per-substep constants (the limits' starting twist; a stiff rod's
 //!       compliance; with joint damping, each damper's starting
 //!       relative orientation and relaxation);
@@ -62,7 +67,9 @@
 
 pub mod graph;
 mod integrate;
+mod integrate_lanes;
 pub mod packed;
+mod packed_contacts;
 pub mod profile;
 mod rows;
 mod settings;
@@ -75,6 +82,7 @@ use crate::constraint::{Constraint, DamperRow, JointDamping, JointRow, RodRow};
 use crate::contact::{ContactPoint, Contacts};
 use body::{SharedBodies, SolverBody};
 use graph::{Colouring, Colours, Order};
+use crate::lanes::Wide;
 use integrate::{commit_pose, integrate_velocity, predict_pose};
 pub use integrate::{gyroscopic_update, GYROSCOPIC_PASSES};
 use packed::Packed;
@@ -147,20 +155,27 @@ impl Solver {
         self.profile.detect = lap(&mut clock);
         // 2. prepare: rows per kind, coloured
         self.prepare(bodies, constraints, settings.joint_damping > 0.0);
+        let simd = settings.solver == SolverKind::Simd;
         if !detect_each_substep {
-            self.colour_contacts(contacts);
+            self.colour_contacts(contacts, simd);
         }
         self.profile.prepare = lap(&mut clock);
         // 3. substeps
-        for _ in 0..substeps {
+        for substep in 0..substeps {
             // 3 (detection every substep): contacts afresh at the substep's starting poses
             if detect_each_substep {
                 contacts.detect(bodies, constraints, h, margin);
-                self.colour_contacts(contacts);
+                self.colour_contacts(contacts, simd);
                 self.profile.detect += lap(&mut clock);
             }
             self.substep(settings, h, bodies, contacts);
             clock = Instant::now();
+            // the SIMD solver's points, kept in lanes, go back before the next detection
+            if simd && (detect_each_substep || substep + 1 == substeps) {
+                let parallel = rayon::current_num_threads() > 1;
+                self.contact_lanes.unpack(&mut contacts.points, parallel);
+                self.profile.contacts += lap(&mut clock);
+            }
         }
     }
 
@@ -212,8 +227,10 @@ impl Solver {
         );
     }
 
-    /// Step 2 (or 3's start, detecting every substep): the contact points, coloured.
-    fn colour_contacts(&mut self, contacts: &mut Contacts) {
+    /// Step 2 (or 3's start, detecting every substep): the contact points, coloured, and for
+    /// the SIMD solver packed into lanes, where they stay until the frame's (or substep's) end
+    /// ([`packed_contacts`]).
+    fn colour_contacts(&mut self, contacts: &mut Contacts, simd: bool) {
         self.colouring.colour(
             Order::Greedy,
             &mut contacts.points,
@@ -222,6 +239,10 @@ impl Solver {
             &self.movable,
             |p| (p.body_a.0, p.body_b.0),
         );
+        if simd {
+            let parallel = rayon::current_num_threads() > 1;
+            (self.contact_lanes).pack(&contacts.points, &self.contact_colours, parallel);
+        }
     }
 
     /// Step 3: one substep of `h`.
@@ -244,13 +265,16 @@ impl Solver {
         // kind's batches into lanes first (its cost counted with the kind)
         self.iterate(settings, contacts, parallel, &mut clock);
         // 3.4 velocities from the corrected previews; commit the poses
-        self.commit_poses(h, bodies, parallel);
+        self.commit_poses(settings.solver == SolverKind::Simd, h, bodies, parallel);
         // 3.5 the stiff rods' damping, on the velocities
         self.rods.iter().for_each(|r| r.damp_velocities(bodies, h));
         self.profile.commit += lap(&mut clock);
         // 3.6 the contacts' velocity pass; bounces slower than two frames of free fall stay
         // inelastic
-        if settings.contacts {
+        if settings.contacts && settings.solver == SolverKind::Simd {
+            let points = &mut contacts.points;
+            (self.contact_lanes).velocity_pass(points, bodies, impact_speed, parallel);
+        } else if settings.contacts {
             let colours = &self.contact_colours;
             let ranges = colours.ranges().map(|(c, r)| (r, !colours.is_overflow(c)));
             contacts.velocity_pass(bodies, impact_speed, ranges);
@@ -258,20 +282,29 @@ impl Solver {
         self.profile.velocity_pass += lap(&mut clock);
     }
 
-    /// Steps 3.1-3.2: each body's velocities, then its preview pose into the hot array.
+    /// Steps 3.1-3.2: each body's velocities, then its preview pose into the hot array (the
+    /// SIMD solver takes [`SIMD_WIDTH`] bodies at a time: [`integrate_lanes`]).
     fn predict(&mut self, settings: &Settings, h: f32, bodies: &mut [Body], parallel: bool) {
         self.bodies.resize(bodies.len(), SolverBody::default());
-        let predict = |(body, hot): (&mut Body, &mut SolverBody)| {
-            integrate_velocity(body, settings, h);
-            *hot = predict_pose(body, h);
+        let simd = settings.solver == SolverKind::Simd;
+        let predict = |bodies: &mut [Body], hot: &mut [SolverBody]| {
+            if simd {
+                let batches = bodies.chunks_mut(SIMD_WIDTH).zip(hot.chunks_mut(SIMD_WIDTH));
+                batches.for_each(|(b, s)| integrate_lanes::predict_batch::<Wide>(b, s, settings, h));
+            } else {
+                bodies.iter_mut().zip(hot).for_each(|(body, hot)| {
+                    integrate_velocity(body, settings, h);
+                    *hot = predict_pose(body, h);
+                });
+            }
         };
         if parallel && bodies.len() >= 2 * BODY_CHUNK {
             bodies
                 .par_chunks_mut(BODY_CHUNK)
                 .zip(self.bodies.par_chunks_mut(BODY_CHUNK))
-                .for_each(|(b, s)| b.iter_mut().zip(s).for_each(predict));
+                .for_each(|(b, s)| predict(b, s));
         } else {
-            bodies.iter_mut().zip(&mut self.bodies).for_each(predict);
+            predict(bodies, &mut self.bodies);
         }
     }
 
@@ -318,9 +351,19 @@ impl Solver {
             rate: settings.contact_stacking,
         };
         let push_speed = settings.contact_push_speed;
-        contacts.begin_substep(bodies_now, h, push_speed, softness, stacking);
-        if settings.contact_warm_start > 0.0 {
-            contacts.warm_start(&mut self.bodies, settings.contact_warm_start, impact_speed);
+        let warm = settings.contact_warm_start;
+        if settings.solver == SolverKind::Simd {
+            let start = contacts.start_substep(h, push_speed, softness, stacking);
+            let (lanes, points) = (&mut self.contact_lanes, &mut contacts.points);
+            lanes.begin_substep(points, bodies_now, &start, parallel);
+            if warm > 0.0 {
+                lanes.warm_start(points, &mut self.bodies, warm, impact_speed, parallel);
+            }
+        } else {
+            contacts.begin_substep(bodies_now, h, push_speed, softness, stacking);
+            if warm > 0.0 {
+                contacts.warm_start(&mut self.bodies, warm, impact_speed);
+            }
         }
     }
 
@@ -339,8 +382,6 @@ impl Solver {
             self.profile.rods += lap(clock);
             (self.joint_lanes).pack(&self.joints, &self.joint_colours, parallel);
             self.profile.joints += lap(clock);
-            (self.contact_lanes).pack(&contacts.points, &self.contact_colours, parallel);
-            self.profile.contacts += lap(clock);
         }
         // the last `contact_extra_sweeps` passes sweep the contacts alone
         for pass in 0..settings.iterations + settings.contact_extra_sweeps {
@@ -379,22 +420,26 @@ impl Solver {
             );
             self.profile.contacts += lap(clock);
         }
-        if simd {
-            self.contact_lanes.unpack(&mut contacts.points, parallel);
-            self.profile.contacts += lap(clock);
-        }
     }
 
-    /// Step 3.4: velocities from the corrected previews; commit the poses.
-    fn commit_poses(&mut self, h: f32, bodies: &mut [Body], parallel: bool) {
-        let commit = |(body, hot): (&mut Body, &SolverBody)| commit_pose(body, hot, h);
+    /// Step 3.4: velocities from the corrected previews; commit the poses (the SIMD solver
+    /// [`SIMD_WIDTH`] bodies at a time).
+    fn commit_poses(&mut self, simd: bool, h: f32, bodies: &mut [Body], parallel: bool) {
+        let commit = |bodies: &mut [Body], hot: &[SolverBody]| {
+            if simd {
+                let batches = bodies.chunks_mut(SIMD_WIDTH).zip(hot.chunks(SIMD_WIDTH));
+                batches.for_each(|(b, s)| integrate_lanes::commit_batch::<Wide>(b, s, h));
+            } else {
+                bodies.iter_mut().zip(hot).for_each(|(b, s)| commit_pose(b, s, h));
+            }
+        };
         if parallel && bodies.len() >= 2 * BODY_CHUNK {
             bodies
                 .par_chunks_mut(BODY_CHUNK)
                 .zip(self.bodies.par_chunks(BODY_CHUNK))
-                .for_each(|(b, s)| b.iter_mut().zip(s).for_each(commit));
+                .for_each(|(b, s)| commit(b, s));
         } else {
-            bodies.iter_mut().zip(&self.bodies).for_each(commit);
+            commit(bodies, &self.bodies);
         }
     }
 

@@ -157,11 +157,25 @@ impl<T: LaneRows> Packed<T> {
             // overflow colour's rows run on this thread one at a time.
             unsafe { bodies.with_pair(a, b, |a, b| row.solve(a, b)) };
         };
-        let solve_batches = |batches: &mut [Option<T::Lanes>], rows: &mut [T]| {
-            for (batch, rows) in batches.iter_mut().zip(rows.chunks_mut(SIMD_WIDTH)) {
-                match batch {
-                    Some(lanes) => T::solve_lanes(lanes, bodies),
-                    None => rows.iter_mut().for_each(one_row),
+        self.each_colour(rows, parallel, |lanes| T::solve_lanes(lanes, bodies), one_row);
+    }
+
+    /// Colour by colour, `batch` on each packed batch and `row` on each row left out of the
+    /// lanes (the overflow colour's, and those of batches the lane kernel does not cover); a
+    /// large colour's batches on several threads, each thread a run of them. Within a colour
+    /// the batches and rows share no movable body; colours run in order.
+    pub fn each_colour(
+        &mut self,
+        rows: &mut [T],
+        parallel: bool,
+        batch: impl Fn(&mut T::Lanes) + Sync,
+        row: impl Fn(&mut T) + Sync,
+    ) {
+        let run = |batches: &mut [Option<T::Lanes>], rows: &mut [T]| {
+            for (lanes, rows) in batches.iter_mut().zip(rows.chunks_mut(SIMD_WIDTH)) {
+                match lanes {
+                    Some(lanes) => batch(lanes),
+                    None => rows.iter_mut().for_each(&row),
                 }
             }
         };
@@ -169,15 +183,15 @@ impl<T: LaneRows> Packed<T> {
             let rows = &mut rows[colour.rows.clone()];
             let batches = &mut self.batches[colour.batches.clone()];
             if colour.overflow {
-                rows.iter_mut().for_each(one_row);
+                rows.iter_mut().for_each(&row);
             } else if parallel && rows.len() >= PARALLEL_MIN_ROWS {
                 let chunk = batches.len().div_ceil(rayon::current_num_threads());
                 batches
                     .par_chunks_mut(chunk)
                     .zip(rows.par_chunks_mut(chunk * SIMD_WIDTH))
-                    .for_each(|(b, r)| solve_batches(b, r));
+                    .for_each(|(b, r)| run(b, r));
             } else {
-                solve_batches(batches, rows);
+                run(batches, rows);
             }
         }
     }
