@@ -14,10 +14,11 @@
 //! (exact), `|det K| < 1e-20`, `w <= 0`, rotation angle `< 1e-9`, and a swing axis that does
 //! not normalise (glam's `try_normalize`) falls back to glam's `any_orthonormal_vector`.
 
-use super::{JointFlavour, JointRow};
+use super::{AngularLimit, JointFlavour, JointRow};
 use crate::lanes::{
     body_indices, not, padded, relative_rotation, BodyLanes, Lane, SymM3, MAX_LANES, Q, V3,
 };
+use crate::body::Body;
 use crate::math::Quat;
 use crate::solver_body::SharedBodies;
 use std::f32::consts::{PI, TAU};
@@ -38,6 +39,8 @@ struct SpringLanes<L> {
 /// The limit part of `L::W` rows: infinite bounds (no correction) where a row has none.
 #[derive(Clone, Copy, Debug)]
 struct LimitLanes<L> {
+    /// Bit `i`: row `i` of the batch has a limit.
+    limited: u16,
     swing_max: L,
     twist_min: L,
     twist_max: L,
@@ -46,12 +49,14 @@ struct LimitLanes<L> {
     frame_b: Q<L>,
 }
 
-/// `L::W` joint rows of one colour in lanes, packed once a substep (after the limits' starting
-/// twist): the rows' constants read straight into registers every iteration instead of
+/// `L::W` joint rows of one colour in lanes, packed once a frame, with the limits' starting
+/// twist taken in lanes at each substep's start ([`JointLanes::begin_substep`]): the rows' constants read straight into registers every iteration instead of
 /// gathered field by field from the rows (Box2D v3 keeps its SIMD contact constraints so).
 /// Parts no row of the batch has are `None` and skipped.
 #[derive(Clone, Copy, Debug)]
 pub struct JointLanes<L> {
+    /// The batch's own rows (lanes past them repeat the first).
+    rows: u8,
     index_a: [u32; MAX_LANES],
     index_b: [u32; MAX_LANES],
     anchor_a: V3<L>,
@@ -86,6 +91,9 @@ impl<L: Lane> JointLanes<L> {
         let limit = rows.iter().any(|r| r.limit.is_some()).then(|| {
             let limit = |i: usize| row(i).limit;
             LimitLanes {
+                limited: (rows.iter().enumerate())
+                    .filter(|(_, r)| r.limit.is_some())
+                    .fold(0, |bits, (i, _)| bits | 1 << i),
                 swing_max: L::from_fn(|i| limit(i).map_or(f32::INFINITY, |l| l.swing_max)),
                 twist_min: L::from_fn(|i| limit(i).map_or(f32::NEG_INFINITY, |l| l.twist_min)),
                 twist_max: L::from_fn(|i| limit(i).map_or(f32::INFINITY, |l| l.twist_max)),
@@ -117,6 +125,7 @@ impl<L: Lane> JointLanes<L> {
             },
         };
         JointLanes {
+            rows: rows.len() as u8,
             index_a,
             index_b,
             anchor_a: V3::from_fn(|i| row(i).anchor_a),
@@ -125,6 +134,28 @@ impl<L: Lane> JointLanes<L> {
             limit,
             point,
         }
+    }
+
+    /// The substep's constants from the bodies' poses at its start: the limits' starting twist,
+    /// [`JointRow::begin_substep`] lane by lane (the same arithmetic, so the same bits as
+    /// packing the rows each substep), so a batch packed once a frame serves all its substeps.
+    pub fn begin_substep(&mut self, bodies: &[Body]) {
+        let Some(limit) = &mut self.limit else {
+            return;
+        };
+        let mut twist = [0.0f32; MAX_LANES];
+        for (i, twist) in twist.iter_mut().enumerate().take(L::W) {
+            // padded lanes repeat the first row; rows without a limit keep 0
+            let row = if i < self.rows as usize { i } else { 0 };
+            if limit.limited & (1 << row) != 0 {
+                let (a, b) = (self.index_a[i] as usize, self.index_b[i] as usize);
+                *twist = AngularLimit::start_twist(
+                    bodies[a].orientation * limit.frame_a.lane(i),
+                    bodies[b].orientation * limit.frame_b.lane(i),
+                );
+            }
+        }
+        limit.start_twist = L::from_fn(|i| twist[i]);
     }
 
     /// One projection of every lane's joint: gather, spring, limits, point, scatter.

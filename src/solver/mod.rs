@@ -78,6 +78,7 @@ mod settings;
 pub use crate::{lanes, solver_body as body};
 
 use crate::body::Body;
+use crate::constraint::ball_socket_lanes::JointLanes;
 use crate::constraint::{Constraint, DamperRow, JointDamping, JointRow, RodRow};
 use crate::contact::{ContactPoint, Contacts};
 use body::{SharedBodies, SolverBody};
@@ -156,6 +157,10 @@ impl Solver {
         // 2. prepare: rows per kind, coloured
         self.prepare(bodies, constraints, settings.joint_damping > 0.0);
         let simd = settings.solver == SolverKind::Simd;
+        if simd {
+            let parallel = rayon::current_num_threads() > 1;
+            (self.joint_lanes).pack(&self.joints, &self.joint_colours, parallel);
+        }
         if !detect_each_substep {
             self.colour_contacts(contacts, simd);
         }
@@ -319,7 +324,13 @@ impl Solver {
         impact_speed: f32,
         parallel: bool,
     ) {
-        if parallel && self.joints.len() >= 2 * PARALLEL_MIN_ROWS {
+        if settings.solver == SolverKind::Simd {
+            // the joints are packed once a frame; their lanes take the starting twist
+            let begin_lanes = |lanes: &mut JointLanes<Wide>| lanes.begin_substep(bodies_now);
+            let begin_row = |row: &mut JointRow| row.begin_substep(bodies_now);
+            let joints = &mut self.joints;
+            (self.joint_lanes).each_colour(joints, parallel, begin_lanes, begin_row);
+        } else if parallel && self.joints.len() >= 2 * PARALLEL_MIN_ROWS {
             self.joints
                 .par_chunks_mut(PARALLEL_MIN_ROWS)
                 .for_each(|rows| rows.iter_mut().for_each(|r| r.begin_substep(bodies_now)));
@@ -380,8 +391,6 @@ impl Solver {
         if simd {
             self.rod_lanes.pack(&self.rods, &self.rod_colours, parallel);
             self.profile.rods += lap(clock);
-            (self.joint_lanes).pack(&self.joints, &self.joint_colours, parallel);
-            self.profile.joints += lap(clock);
         }
         // the last `contact_extra_sweeps` passes sweep the contacts alone
         for pass in 0..settings.iterations + settings.contact_extra_sweeps {
