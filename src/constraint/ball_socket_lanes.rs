@@ -15,16 +15,16 @@
 //! not normalise (glam's `try_normalize`) falls back to glam's `any_orthonormal_vector`.
 
 use super::{AngularLimit, JointFlavour, JointRow};
+use crate::body::Body;
 use crate::lanes::{
     body_indices, not, padded, relative_rotation, BodyLanes, Lane, SymM3, MAX_LANES, Q, V3,
 };
-use crate::body::Body;
 use crate::math::Quat;
 use crate::solver_body::SharedBodies;
 use std::f32::consts::{PI, TAU};
 
 /// Solves `L::W` rows sharing no movable body at once: packed, then one projection (the solver
-/// packs once a substep and solves the packed batch every iteration).
+/// packs once a frame and solves the packed batch every iteration).
 pub fn solve_lanes<L: Lane>(rows: &mut [JointRow], bodies: SharedBodies) {
     JointLanes::<L>::pack(rows).solve(bodies);
 }

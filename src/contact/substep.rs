@@ -179,4 +179,3 @@ fn relative_normal_velocity(a: &Body, b: &Body, point_a: Vec3, point_b: Vec3, no
     };
     (velocity(b, point_b) - velocity(a, point_a)).dot(normal)
 }
-

@@ -54,13 +54,15 @@ pub(super) fn predict_batch<L: Lane>(
     let hl = L::splat(h);
     velocity = velocity + (V3::splat(settings.gravity) + force.scale(inverse_mass)).scale(hl);
     let converged = if settings.substeps > 1 { 1e-6 } else { 0.0 };
-    let mut angular = gyroscopic_update(orientation, angular, inertia, inverse_inertia, h, converged)
-        .scale(L::splat(1.0) / L::splat(1.0 + h * settings.angular_damping));
+    let mut angular =
+        gyroscopic_update(orientation, angular, inertia, inverse_inertia, h, converged)
+            .scale(L::splat(1.0) / L::splat(1.0 + h * settings.angular_damping));
     velocity = velocity.scale(L::splat(1.0) / L::splat(1.0 + h * settings.linear_damping));
     let spin = angular.length();
     let limit = L::splat(settings.angular_speed_limit);
     let over = spin.gt(limit);
-    angular = angular.scale(over.select(limit / spin.max(L::splat(f32::MIN_POSITIVE)), L::splat(1.0)));
+    angular =
+        angular.scale(over.select(limit / spin.max(L::splat(f32::MIN_POSITIVE)), L::splat(1.0)));
 
     // 3.2 the preview pose and its world inverse inertia
     let predicted_position = position + velocity.scale(hl);
@@ -99,7 +101,10 @@ pub(super) fn commit_batch<L: Lane>(bodies: &mut [Body], hot: &[SolverBody], h: 
     let inverse_inertia = V3::<L>::from_fn(|i| bodies[lane(i)].inverse_inertia_body);
     let inverse_h = L::splat(1.0 / h);
     let velocity = (moved_to - position).scale(inverse_h);
-    let angular = after.mul(before.conjugate()).rotation_vector().scale(inverse_h);
+    let angular = after
+        .mul(before.conjugate())
+        .rotation_vector()
+        .scale(inverse_h);
     let world_inverse_inertia = world_inertia(after, inverse_inertia);
     for (i, body) in bodies.iter_mut().enumerate() {
         let (p, q) = (hot[i].position, hot[i].orientation);

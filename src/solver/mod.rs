@@ -21,7 +21,7 @@
 //!    (few, full colours). Either way both solvers sweep the same reordered rows, so the scalar
 //!    and SIMD solvers compute the same thing. The SIMD solver packs the contact points into
 //!    lanes here, where they stay through the frame's substeps (each substep's start, warm
-//!    start, iterations and velocity pass run on the lanes: [`packed_contacts`]) until they are
+//!    start, iterations and velocity pass run on the lanes: `packed_contacts.rs`) until they are
 //!    unpacked at the frame's end;
 //! 3. for each substep (with [`ContactDetection::Substep`], after contact detection at the
 //!    substep's starting poses, with the reach of one substep, and the points coloured as in
@@ -33,7 +33,7 @@
 //!    2. predict the preview poses `p* = p + h v`, `q* = exp(h w) q` (exact exponential map)
 //!       into the hot [`SolverBody`] array, with each body's world inverse inertia there (the
 //!       SIMD solver does 3.1-3.2 and 3.4 for [`SIMD_WIDTH`] bodies at a time:
-//!       [`integrate_lanes`]);
+//!       `integrate_lanes.rs`);
 //!       take the rows' per-substep constants (the limits' starting twist; a stiff rod's
 //!       compliance; with joint damping, each damper's starting
 //!       relative orientation and relaxation);
@@ -81,9 +81,9 @@ use crate::body::Body;
 use crate::constraint::ball_socket_lanes::JointLanes;
 use crate::constraint::{Constraint, DamperRow, JointDamping, JointRow, RodRow};
 use crate::contact::{ContactPoint, Contacts};
+use crate::lanes::Wide;
 use body::{SharedBodies, SolverBody};
 use graph::{Colouring, Colours, Order};
-use crate::lanes::Wide;
 use integrate::{commit_pose, integrate_velocity, predict_pose};
 pub use integrate::{gyroscopic_update, GYROSCOPIC_PASSES};
 use packed::Packed;
@@ -119,7 +119,8 @@ pub struct Solver {
     dampers: Vec<DamperRow>,
     damper_colours: Colours,
     contact_colours: Colours,
-    /// The rows in lanes for [`SolverKind::Simd`], packed once a substep ([`packed`]).
+    /// The rows in lanes for [`SolverKind::Simd`] ([`packed`]): rods packed once a substep,
+    /// joints once a frame, contact points once a detection.
     joint_lanes: Packed<JointRow>,
     rod_lanes: Packed<RodRow>,
     contact_lanes: Packed<ContactPoint>,
@@ -294,8 +295,11 @@ impl Solver {
         let simd = settings.solver == SolverKind::Simd;
         let predict = |bodies: &mut [Body], hot: &mut [SolverBody]| {
             if simd {
-                let batches = bodies.chunks_mut(SIMD_WIDTH).zip(hot.chunks_mut(SIMD_WIDTH));
-                batches.for_each(|(b, s)| integrate_lanes::predict_batch::<Wide>(b, s, settings, h));
+                let batches = bodies
+                    .chunks_mut(SIMD_WIDTH)
+                    .zip(hot.chunks_mut(SIMD_WIDTH));
+                batches
+                    .for_each(|(b, s)| integrate_lanes::predict_batch::<Wide>(b, s, settings, h));
             } else {
                 bodies.iter_mut().zip(hot).for_each(|(body, hot)| {
                     integrate_velocity(body, settings, h);
@@ -439,7 +443,10 @@ impl Solver {
                 let batches = bodies.chunks_mut(SIMD_WIDTH).zip(hot.chunks(SIMD_WIDTH));
                 batches.for_each(|(b, s)| integrate_lanes::commit_batch::<Wide>(b, s, h));
             } else {
-                bodies.iter_mut().zip(hot).for_each(|(b, s)| commit_pose(b, s, h));
+                bodies
+                    .iter_mut()
+                    .zip(hot)
+                    .for_each(|(b, s)| commit_pose(b, s, h));
             }
         };
         if parallel && bodies.len() >= 2 * BODY_CHUNK {

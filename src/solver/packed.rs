@@ -1,14 +1,16 @@
-//! Rows packed into SIMD lanes once a substep, for [`SolverKind::Simd`](super::SolverKind).
+//! Rows packed into SIMD lanes, for [`SolverKind::Simd`](super::SolverKind): rods once a
+//! substep, joints once a frame, contact points once a detection.
 //!
 //! A lane kernel reads each row's constants (anchors, frames, normals, friction, limits) in
 //! every iteration. Gathered field by field from the rows inside the kernel, they cost little at
 //! 8 lanes (hidden behind the kernels' chains of dependent arithmetic) but kept 16 lanes from
 //! paying (1.4x slower than 8). Here every batch of [`SIMD_WIDTH`] rows of a colour is packed
-//! once, after the substep's per-substep constants are known (the limits'
-//! starting twist, the contacts' warm impulses and push-out allowance), into the kernel's lane
-//! struct, and the iterations solve the packed batches (Box2D v3 keeps its SIMD contact
-//! constraints this way, `b2ContactConstraintSIMD`). What the iterations accumulate (the
-//! contacts' impulses) is unpacked into the rows once the iterations end.
+//! into the kernel's lane struct, and the iterations solve the packed batches (Box2D v3 keeps
+//! its SIMD contact constraints this way, `b2ContactConstraintSIMD`). What changes from substep
+//! to substep is taken in the lanes themselves: the joints' starting twist
+//! (`JointLanes::begin_substep`), and the contact points' whole substep, begun, warm-started,
+//! solved and given their velocity pass in lanes, then unpacked into the points at the frame's
+//! end (`packed_contacts.rs`).
 //!
 //! A colour's last batch is padded: its empty lanes repeat its first row
 //! ([`crate::lanes::padded`]), which computes and writes back exactly what the first lane does,
@@ -157,7 +159,12 @@ impl<T: LaneRows> Packed<T> {
             // overflow colour's rows run on this thread one at a time.
             unsafe { bodies.with_pair(a, b, |a, b| row.solve(a, b)) };
         };
-        self.each_colour(rows, parallel, |lanes| T::solve_lanes(lanes, bodies), one_row);
+        self.each_colour(
+            rows,
+            parallel,
+            |lanes| T::solve_lanes(lanes, bodies),
+            one_row,
+        );
     }
 
     /// Colour by colour, `batch` on each packed batch and `row` on each row left out of the

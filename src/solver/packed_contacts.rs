@@ -47,7 +47,9 @@ impl Packed<ContactPoint> {
                 let (a, b) = (point.body_a.0, point.body_b.0);
                 // SAFETY: rows of a colour share no movable body; the overflow colour runs on
                 // this thread
-                unsafe { shared.with_pair(a, b, |a, b| point.warm_start(a, b, fraction, impact_speed)) }
+                unsafe {
+                    shared.with_pair(a, b, |a, b| point.warm_start(a, b, fraction, impact_speed))
+                }
             },
         );
     }
