@@ -104,8 +104,10 @@ impl<L: Lane> ContactLanes<L> {
 
     /// The contacts' velocity pass ([`super::Contacts::velocity_pass`]) for the batch's points
     /// that pushed this substep, one after another: read from the lanes, the scalar pass
-    /// itself. (A pass in lanes gathered every lane's two world bodies, about twenty fields
-    /// each, for a few multiplications, and measured 1.5 times the scalar pass.)
+    /// itself. (A pass in lanes, the same arithmetic and bits, gathered every lane's two world
+    /// bodies, about twenty fields each, for a few multiplications: 1.5 times the scalar pass
+    /// field by field, 1.1 times with the bodies' first 96 bytes transposed as six groups of
+    /// four floats.)
     ///
     /// # Safety
     /// No other thread may access the batch's awake dynamic bodies meanwhile, nor write its

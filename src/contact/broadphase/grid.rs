@@ -48,12 +48,6 @@ pub(super) fn key(cell: [i64; 3]) -> u64 {
     (((cell[0] & MASK) as u64) << 42) | (((cell[1] & MASK) as u64) << 21) | (cell[2] & MASK) as u64
 }
 
-/// The key of the cell holding the lower corner of two overlapping boxes' overlap: the one
-/// cell that reports their pair.
-pub(super) fn corner_cell(a: &Aabb, b: &Aabb, inverse_cell: f32) -> u64 {
-    key([0, 1, 2].map(|k| cell_of(a.min[k].max(b.min[k]), inverse_cell)))
-}
-
 /// The cells a box covers, per axis, and how many.
 pub(super) fn cell_span(aabb: &Aabb, inverse_cell: f32) -> ([i64; 3], [i64; 3], i64) {
     let lo = aabb.min.map(|x| cell_of(x, inverse_cell));
@@ -65,7 +59,7 @@ pub(super) fn cell_span(aabb: &Aabb, inverse_cell: f32) -> ([i64; 3], [i64; 3], 
 }
 
 /// `out` = the sorted union of the sorted, disjoint `kept` and `found`.
-pub(super) fn merge_sorted(kept: &[(u32, u32)], found: &[(u32, u32)], out: &mut Vec<(u32, u32)>) {
+pub(super) fn merge_sorted<T: Ord + Copy>(kept: &[T], found: &[T], out: &mut Vec<T>) {
     out.clear();
     out.reserve(kept.len() + found.len());
     let (mut i, mut j) = (0, 0);

@@ -7,12 +7,16 @@
 //! this step and the contact margin. Around it the body keeps a fat box, [`FAT_MARGIN`] larger
 //! on every side, which stays put while the tight box stays inside it. Pairs of overlapping fat
 //! boxes are kept from step to step; each step reports those whose tight boxes overlap. A body
-//! whose tight box leaves its fat box gets a new fat box ("moved"): its pairs are dropped and
-//! found again by querying the grid with the new box, and, against the other bodies moved
-//! since the last rebuild (whose grid cells are stale), one by one. A settled pile moves a few
-//! bodies a step, so its broad phase costs the box updates and the report (the rain: 1.2
-//! instead of 4.4 ms a step). Once more than a sixteenth of the bodies have moved (a falling
-//! crowd: every step), or a body wakes, sleeps or joins, the grid is rebuilt:
+//! whose tight box leaves its fat box gets a new fat box ("moved"): its grid entries are
+//! replaced by the new box's cells (dropped by a pass over the entries, the new ones merged in
+//! sorted), and its pairs are dropped and found again by querying the grid with the new box.
+//! A settled pile moves a few hundred bodies a step, so its broad phase costs the box updates
+//! and the report. Once more than a sixteenth of the bodies move in one step (a falling
+//! crowd), or a body wakes, sleeps or joins, the grid is rebuilt instead, its sweeps on several
+//! threads (before, moved bodies were left stale in the grid and tested one by one against
+//! each other, and the grid was rebuilt once a sixteenth had moved since the last rebuild:
+//! every third or fourth step in the settled rain, 7.5 ms each on one thread; a quarter
+//! measured no better on two threads, where the update runs on one):
 //!
 //! The cell edge is four times the mean largest fat-box half-size of the movable bodies (2, 3,
 //! 6 and 8 times were measured slower on the rain), so a limb covers one to eight cells. Every
@@ -47,7 +51,7 @@ use super::collider::{Collider, PARALLEL_BODIES};
 use crate::body::BodyKind;
 use crate::math::Vec3;
 use crate::shape::Shape;
-use grid::{cell_span, corner_cell, key, merge_sorted, Aabb};
+use grid::{cell_span, key, merge_sorted, Aabb};
 
 /// How much larger than its tight box (m, each side) a body's fat box is: a body resting or
 /// swinging by a few centimetres keeps its fat box, and its pairs, for many steps.
@@ -60,8 +64,6 @@ struct Proxy {
     flags: Flags,
     /// Kept out of the grid (covers more than [`LARGE_CELLS`] cells at the last rebuild).
     large: bool,
-    /// Its fat box changed since the last rebuild: its grid cells are stale.
-    dirty: bool,
     /// Its fat box changed this step.
     moved: bool,
     /// The fat box, which contains this step's tight box.
@@ -94,6 +96,10 @@ struct CellBox {
     fat: Aabb,
     low_cell: [i64; 3],
 }
+
+/// More than one in `REBUILD_MOVED` of the bodies getting new fat boxes in a step rebuilds
+/// the grid instead of updating it body by body (a falling crowd).
+const REBUILD_MOVED: usize = 16;
 
 /// Entries from which the sort runs on several threads.
 const PARALLEL_SORT: usize = 32_768;
@@ -141,9 +147,11 @@ pub struct BroadPhase {
     /// Scratch: the pairs found for the bodies moved this step, and the merge.
     found: Vec<(u32, u32)>,
     merged: Vec<(u32, u32)>,
-    /// Proxies moved this step, and since the last rebuild (both ascending).
+    /// Proxies moved this step (ascending).
     moved: Vec<u32>,
-    dirty: Vec<u32>,
+    /// Scratch: the moved proxies' new grid entries, and the merge.
+    found_entries: Vec<(u64, u32)>,
+    merged_entries: Vec<(u64, u32)>,
     /// Grid rebuilds so far (a settled world rebuilds rarely).
     pub rebuilds: u64,
 }
@@ -236,19 +244,13 @@ impl BroadPhase {
         true
     }
 
-    /// The fat pairs after the bodies in `moved` got new fat boxes: theirs dropped and found
-    /// again (the grid for bodies in their cells, one by one for the dirty ones). Returns false,
-    /// with nothing changed, when the grid should be rebuilt instead.
+    /// The grid and the fat pairs after the bodies in `moved` got new fat boxes: their grid
+    /// entries replaced by their new cells, their pairs dropped and found again through the
+    /// grid (a pair of two moved bodies from the lower one). Returns false, with nothing
+    /// changed, when the grid should be rebuilt instead: more than [`REBUILD_MOVED`] of the
+    /// bodies moved, or a box grew too large for the grid.
     fn update_moved(&mut self) -> bool {
-        let limit = (self.proxies.len() / 16).max(64);
-        for &m in &self.moved {
-            if !self.proxies[m as usize].dirty {
-                self.dirty.push(m);
-            }
-        }
-        self.dirty.sort_unstable();
-        self.dirty.dedup();
-        if self.dirty.len() > limit {
+        if self.moved.len() > (self.proxies.len() / REBUILD_MOVED).max(64) {
             return false;
         }
         let inverse_cell = self.inverse_cell;
@@ -258,9 +260,29 @@ impl BroadPhase {
                 return false; // grown too large for the grid
             }
         }
+        // the grid: the moved bodies' entries out, their new cells in
+        let proxies = &mut self.proxies;
+        self.entries.retain(|&(_, i)| !proxies[i as usize].moved);
+        self.found_entries.clear();
         for &m in &self.moved {
-            self.proxies[m as usize].dirty = true;
+            let p = &mut proxies[m as usize];
+            if p.large {
+                continue; // the large pass tests it every step
+            }
+            let (lo, hi, _) = cell_span(&p.fat, inverse_cell);
+            p.low_cell = lo;
+            for x in lo[0]..=hi[0] {
+                for y in lo[1]..=hi[1] {
+                    for z in lo[2]..=hi[2] {
+                        self.found_entries.push((key([x, y, z]), m));
+                    }
+                }
+            }
         }
+        self.found_entries.sort_unstable();
+        merge_sorted(&self.entries, &self.found_entries, &mut self.merged_entries);
+        std::mem::swap(&mut self.entries, &mut self.merged_entries);
+        // the pairs: the moved bodies' dropped, found again in their new cells
         let proxies = &self.proxies;
         let is_moved = |i: u32| proxies[i as usize].moved;
         gaps::retain(&mut self.fat_pairs, &mut self.gaps, |a, b| {
@@ -270,10 +292,8 @@ impl BroadPhase {
         for &m in &self.moved {
             let a = &proxies[m as usize];
             if a.large {
-                continue; // the large pass tests it every step
+                continue;
             }
-            let ordered = |i: u32| (m.min(i), m.max(i));
-            // the clean bodies, through the grid cells of the new fat box
             let (lo, hi, _) = cell_span(&a.fat, inverse_cell);
             for x in lo[0]..=hi[0] {
                 for y in lo[1]..=hi[1] {
@@ -285,25 +305,20 @@ impl BroadPhase {
                                 break;
                             }
                             let b = &proxies[i as usize];
-                            if b.dirty || !a.flags.may_touch(b.flags) || !a.fat.overlaps(&b.fat) {
+                            // itself, or a moved body that reports the pair (the lower one)
+                            if i == m || (b.moved && i < m) {
+                                continue;
+                            }
+                            if !a.flags.may_touch(b.flags) || !a.fat.overlaps(&b.fat) {
                                 continue;
                             }
                             // reported from the cell of the overlap's lower corner only
-                            if corner_cell(&a.fat, &b.fat, inverse_cell) == cell {
-                                self.found.push(ordered(i));
+                            let corner = [0, 1, 2].map(|k| a.low_cell[k].max(b.low_cell[k]));
+                            if key(corner) == cell {
+                                self.found.push((m.min(i), m.max(i)));
                             }
                         }
                     }
-                }
-            }
-            // the dirty bodies one by one; a pair of two moved bodies from the lower one
-            for &d in &self.dirty {
-                let b = &proxies[d as usize];
-                if d == m || b.large || (is_moved(d) && d < m) {
-                    continue;
-                }
-                if a.flags.may_touch(b.flags) && a.fat.overlaps(&b.fat) {
-                    self.found.push(ordered(d));
                 }
             }
         }
@@ -366,11 +381,9 @@ impl BroadPhase {
     /// Fresh fat boxes, the cell edge from the movable bodies' sizes, and every small box
     /// entered in each cell it covers (large ones listed apart), sorted by cell.
     fn enter_cells(&mut self) {
-        self.dirty.clear();
         let mut extent_sum = 0.0;
         let mut movable = 0;
         for (proxy, tight) in self.proxies.iter_mut().zip(&self.tight) {
-            proxy.dirty = false;
             proxy.fat = tight.fattened();
             if proxy.flags.active || proxy.flags.dynamic {
                 let half = (0..3).map(|k| proxy.fat.max[k] - proxy.fat.min[k]);

@@ -207,9 +207,11 @@ fn kept_pairs_match_a_fresh_grid_as_bodies_move() {
         assert!(fresh.len() > 1000, "step {step}: {} pairs", fresh.len());
         assert_eq!(incremental, fresh, "step {step}");
     }
-    // the first step, the sleepers' step and the rebuilds when a sixteenth has moved
+    // only the first step, the sleepers' step and the next (set_pose wakes them) rebuild: a few
+    // dozen bodies move each step (before, moved bodies stayed stale in the grid, and once a
+    // sixteenth had moved since the last rebuild the grid was rebuilt: 40-odd updates)
     assert!(
-        updates >= 40,
+        updates >= 57,
         "{updates} of 60 steps updated without a rebuild"
     );
 }
