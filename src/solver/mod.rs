@@ -14,7 +14,8 @@
 //! 1. contact detection, once per frame, at the current poses (speculative: points are made
 //!    within a margin grown by how far the bodies may travel in the whole frame); with
 //!    [`ContactDetection::Substep`] it moves to the start of each substep (step 3) instead;
-//! 2. prepare: flatten joints, rods and contact points into rows stored per kind, and colour
+//! 2. prepare: flatten joints, rods and contact points into rows stored per kind (the joints'
+//!    and rods' beside step 1 on a second thread, as they do not depend on the contacts), and colour
 //!    each kind's rows so rows of one colour share no movable body ([`graph`]). Joints and
 //!    rods keep their stored order (solving colour by colour is exactly the paper's sequential
 //!    sweep); contact points, whose order is only the broad phase's, take the greedy colouring
@@ -150,18 +151,30 @@ impl Solver {
         let margin = settings.contact_margin;
         let detect_each_substep =
             settings.contacts && settings.contact_detection == ContactDetection::Substep;
-        // 1. contacts at the current poses, once per frame
-        if settings.contacts && !detect_each_substep {
-            contacts.detect(bodies, constraints, dt, margin);
+        // 1. contacts at the current poses, once per frame, and 2. the joints' and rods' rows
+        // beside them (they do not depend on the contacts: on several threads the rows fill
+        // the detection's serial stretches; the detect phase times both)
+        let simd = settings.solver == SolverKind::Simd;
+        let parallel = rayon::current_num_threads() > 1;
+        let detect = |contacts: &mut Contacts| {
+            if settings.contacts && !detect_each_substep {
+                contacts.detect(bodies, constraints, dt, margin);
+            }
+        };
+        let prepare = |solver: &mut Solver| {
+            solver.prepare(bodies, constraints, settings.joint_damping > 0.0);
+            if simd {
+                (solver.joint_lanes).pack(&solver.joints, &solver.joint_colours, parallel);
+            }
+        };
+        if parallel {
+            rayon::join(|| detect(contacts), || prepare(self));
+        } else {
+            detect(contacts);
+            prepare(self);
         }
         self.profile.detect = lap(&mut clock);
-        // 2. prepare: rows per kind, coloured
-        self.prepare(bodies, constraints, settings.joint_damping > 0.0);
-        let simd = settings.solver == SolverKind::Simd;
-        if simd {
-            let parallel = rayon::current_num_threads() > 1;
-            (self.joint_lanes).pack(&self.joints, &self.joint_colours, parallel);
-        }
+        // 2. the contact points, coloured
         if !detect_each_substep {
             self.colour_contacts(contacts, simd);
         }
