@@ -122,17 +122,17 @@ impl<L: Lane> ContactLanes<L> {
         for (i, p) in rows.iter_mut().enumerate().take(L::W) {
             p.anchor_a = self.anchor_a.lane(i);
             p.anchor_b = self.anchor_b.lane(i);
-            p.allowed_penetration = self.allowed_penetration.lane(i);
-            p.compliance = self.compliance.lane(i);
-            p.damping = self.damping.lane(i);
-            p.start_separation = self.start_separation.lane(i);
-            p.mass_scale_a = self.mass_scale_a.lane(i);
-            p.mass_scale_b = self.mass_scale_b.lane(i);
-            p.normal_impulse = self.normal_impulse.lane(i);
-            p.warm_impulse = self.warm_impulse.lane(i);
-            p.friction_impulse = self.friction_impulse.lane(i);
-            p.touched = self.touched.lane(i).to_bits() != 0;
-            p.sticking = self.sticking.lane(i).to_bits() != 0;
+            p.allowed_penetration = self.allowed_penetration.at(i);
+            p.compliance = self.compliance.at(i);
+            p.damping = self.damping.at(i);
+            p.start_separation = self.start_separation.at(i);
+            p.mass_scale_a = self.mass_scale_a.at(i);
+            p.mass_scale_b = self.mass_scale_b.at(i);
+            p.normal_impulse = self.normal_impulse.at(i);
+            p.warm_impulse = self.warm_impulse.at(i);
+            p.friction_impulse = self.friction_impulse.at(i);
+            p.touched = self.touched.at(i).to_bits() != 0;
+            p.sticking = self.sticking.at(i).to_bits() != 0;
         }
     }
 

@@ -119,7 +119,7 @@ impl<L: Lane> ContactLanes<L> {
             return;
         }
         for i in 0..self.rows as usize {
-            if pushing.lane(i).to_bits() == 0 {
+            if pushing.at(i).to_bits() == 0 {
                 continue;
             }
             let row = VelocityRow {
@@ -128,11 +128,11 @@ impl<L: Lane> ContactLanes<L> {
                 normal: self.normal.lane(i),
                 arm_a: self.arm_a.lane(i),
                 arm_b: self.arm_b.lane(i),
-                restitution: self.restitution.lane(i),
-                approach_speed: self.approach_speed.lane(i),
-                compliance: self.compliance.lane(i),
-                mass_scale_a: self.mass_scale_a.lane(i),
-                mass_scale_b: self.mass_scale_b.lane(i),
+                restitution: self.restitution.at(i),
+                approach_speed: self.approach_speed.at(i),
+                compliance: self.compliance.at(i),
+                mass_scale_a: self.mass_scale_a.at(i),
+                mass_scale_b: self.mass_scale_b.at(i),
             };
             row.apply(bodies, threshold);
         }

@@ -95,7 +95,7 @@ impl<L: Lane> BodyLanes<L> {
         let correction = L::untranspose4([c.x, c.y, c.z, self.inverse_inertia.xx]);
         for (i, &k) in index.iter().enumerate().take(L::W) {
             // the gathered inverse mass, not a reload: immovable lanes are skipped
-            if self.inverse_mass.lane(i) == 0.0 {
+            if self.inverse_mass.at(i) == 0.0 {
                 continue;
             }
             let quads = bodies.get_mut(k).as_quads_mut();

@@ -137,6 +137,8 @@ pub trait Lane:
     fn from_fn(f: impl FnMut(usize) -> f32) -> Self;
     /// Lane `i`'s value.
     fn lane(self, i: usize) -> f32;
+    /// Lane `i`'s value, read in place (no copy of the vector).
+    fn at(&self, i: usize) -> f32;
     /// Per-lane square root.
     fn sqrt(self) -> Self;
     /// `1 / sqrt(self)` from the hardware estimate (12 bits) and one Newton step (about 22).
@@ -196,6 +198,10 @@ macro_rules! impl_lane {
             #[inline(always)]
             fn lane(self, i: usize) -> f32 {
                 self.to_array()[i]
+            }
+            #[inline(always)]
+            fn at(&self, i: usize) -> f32 {
+                self.as_array()[i]
             }
             #[inline(always)]
             fn sqrt(self) -> Self {

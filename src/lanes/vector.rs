@@ -47,7 +47,7 @@ impl<L: Lane> V3<L> {
     /// Lane `i` as a `Vec3`.
     #[inline(always)]
     pub fn lane(&self, i: usize) -> Vec3 {
-        Vec3::new(self.x.lane(i), self.y.lane(i), self.z.lane(i))
+        Vec3::new(self.x.at(i), self.y.at(i), self.z.at(i))
     }
     /// Per-lane dot product.
     #[inline(always)]
@@ -194,12 +194,7 @@ impl<L: Lane> Q<L> {
     /// Lane `i` as a `Quat`.
     #[inline(always)]
     pub fn lane(&self, i: usize) -> Quat {
-        Quat::from_xyzw(
-            self.x.lane(i),
-            self.y.lane(i),
-            self.z.lane(i),
-            self.w.lane(i),
-        )
+        Quat::from_xyzw(self.x.at(i), self.y.at(i), self.z.at(i), self.w.at(i))
     }
     /// The vector part (x, y, z).
     #[inline(always)]

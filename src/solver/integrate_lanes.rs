@@ -256,8 +256,8 @@ fn world_inertia<L: Lane>(q: Q<L>, d: V3<L>) -> [Mat3; MAX_LANES] {
         if i >= L::W {
             return Mat3::ZERO;
         }
-        let (xx, yy, zz) = (xx.lane(i), yy.lane(i), zz.lane(i));
-        let (xy, xz, yz) = (xy.lane(i), xz.lane(i), yz.lane(i));
+        let (xx, yy, zz) = (xx.at(i), yy.at(i), zz.at(i));
+        let (xy, xz, yz) = (xy.at(i), xz.at(i), yz.at(i));
         Mat3::from_cols_array(&[xx, xy, xz, xy, yy, yz, xz, yz, zz])
     })
 }
