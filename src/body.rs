@@ -2,8 +2,9 @@
 //! of mass and a unit quaternion, with mass m_i and body-space inertia I_i.
 //!
 //! The body frame is the shape's principal frame, so the body-space inertia is diagonal.
-//! The world inverse inertia `R I^-1 R^T` is refreshed whenever the solver moves the
-//! orientation it reads from (once per step, at the preview pose).
+//! The world inverse inertia `R I^-1 R^T` is refreshed whenever the orientation changes (the
+//! solver's commit, a teleport). The solver's preview poses live in its own hot array
+//! ([`crate::solver_body::SolverBody`]); between steps a body holds its pose alone.
 
 use crate::math::{Mat3, Quat, Vec3};
 use crate::shape::Shape;
@@ -33,8 +34,8 @@ pub enum BodyKind {
 /// A rigid body (paper §4): pose, velocities, mass properties and contact material.
 ///
 /// `repr(C)`, with what every substep reads and writes first (pose, velocities, mass and
-/// inertia, the preview), so the solver's per-body passes touch the first 200 of its 320 bytes
-/// (the 1000-ragdoll rain: 0.96x the time with the compiler's field order).
+/// inertia), so the solver's per-body passes touch its first 132 bytes (the 1000-ragdoll rain:
+/// 0.96x the time with the compiler's field order).
 #[derive(Clone, Debug)]
 #[repr(C)]
 pub struct Body {
@@ -58,15 +59,6 @@ pub struct Body {
     pub(crate) inverse_inertia_body: Vec3,
     /// External force applied every step until changed (N), on top of gravity.
     pub external_force: Vec3,
-    /// Preview coordinates x* of the current step (paper §4).
-    pub(crate) preview_orientation: Quat,
-    /// Predicted orientation of this step and the sum of the rotation vectors constraints have
-    /// applied to it since: `preview_orientation = exp(correction) predicted`. Summing makes the
-    /// corrections commute; applying them one after another would leave second-order turns
-    /// (two tilts make a twist) that build up into spin.
-    pub(crate) predicted_orientation: Quat,
-    pub(crate) preview_position: Vec3,
-    pub(crate) rotation_correction: Vec3,
     // --- Cold: read once a frame or less ---
     /// Mass m_i (kg); only a dynamic body's is used.
     pub mass: f32,
@@ -117,10 +109,6 @@ impl Body {
             inverse_mass: if dynamic { 1.0 / mass } else { 0.0 },
             inverse_inertia_body: if dynamic { inertia.recip() } else { Vec3::ZERO },
             inverse_inertia_world: Mat3::ZERO,
-            preview_position: Vec3::ZERO,
-            preview_orientation: Quat::IDENTITY,
-            predicted_orientation: Quat::IDENTITY,
-            rotation_correction: Vec3::ZERO,
             asleep: false,
             still_for: 0.0,
             sleep_spheres: [(Vec3::ZERO, 0.0); 3],
@@ -136,16 +124,12 @@ impl Body {
         self
     }
 
-    /// Teleports the body (current and preview pose), waking it (its island wakes next step).
+    /// Teleports the body, waking it (its island wakes next step).
     pub fn set_pose(&mut self, position: Vec3, orientation: Quat) {
         self.asleep = false;
         self.still_for = 0.0;
         self.position = position;
         self.orientation = orientation.normalize();
-        self.preview_position = self.position;
-        self.preview_orientation = self.orientation;
-        self.predicted_orientation = self.orientation;
-        self.rotation_correction = Vec3::ZERO;
         self.update_world_inertia();
     }
 
@@ -193,8 +177,8 @@ impl Body {
         self.inverse_mass
     }
 
-    /// World inverse inertia `R I^-1 R^T` (1/(kg m^2)) at the preview orientation it was last
-    /// refreshed from; zero unless dynamic.
+    /// World inverse inertia `R I^-1 R^T` (1/(kg m^2)) at the current orientation; zero unless
+    /// dynamic.
     pub fn inverse_inertia_world(&self) -> Mat3 {
         self.inverse_inertia_world
     }
@@ -205,9 +189,9 @@ impl Body {
         r * Mat3::from_diagonal(self.inertia) * r.transpose()
     }
 
-    /// Recomputes `R I^-1 R^T` from the preview orientation.
+    /// Recomputes `R I^-1 R^T` from the orientation.
     pub(crate) fn update_world_inertia(&mut self) {
-        let r = Mat3::from_quat(self.preview_orientation);
+        let r = Mat3::from_quat(self.orientation);
         self.inverse_inertia_world =
             r * Mat3::from_diagonal(self.inverse_inertia_body) * r.transpose();
     }
@@ -240,12 +224,6 @@ impl Body {
             return 0.0;
         }
         -self.mass * gravity.dot(self.position)
-    }
-
-    /// World position of a body-space point at the preview pose.
-    #[inline]
-    pub(crate) fn preview_point(&self, local: Vec3) -> Vec3 {
-        self.preview_position + self.preview_orientation * local
     }
 
     /// An upper bound (m/s) on the speed of any point of the body's shape: `|v| + |w x r|` at
@@ -323,4 +301,4 @@ impl Body {
     }
 }
 
-const _: () = assert!(std::mem::size_of::<Body>() == 320);
+const _: () = assert!(std::mem::size_of::<Body>() == 256);

@@ -51,26 +51,23 @@ impl SolverBody {
         unsafe { &mut *(self as *mut SolverBody as *mut [[f32; 4]; 6]) }
     }
 
-    /// The body at its preview pose, as [`Body`] holds it.
+    /// The body at its pose, a preview with no correction yet (outside a step: tests, tools).
     pub fn from_body(body: &Body) -> Self {
-        let mut s = SolverBody {
-            orientation: body.preview_orientation,
-            predicted: body.predicted_orientation,
-            position: body.preview_position,
+        SolverBody {
+            orientation: body.orientation,
+            predicted: body.orientation,
+            position: body.position,
             inverse_mass: body.inverse_mass,
-            rotation_correction: body.rotation_correction,
+            rotation_correction: Vec3::ZERO,
             inverse_inertia: body.inverse_inertia_world(),
-        };
-        s.inverse_inertia = body.inverse_inertia_world();
-        s
+        }
     }
 
-    /// Writes the preview pose back to `body`.
-    pub fn write_preview(&self, body: &mut Body) {
-        body.preview_position = self.position;
-        body.preview_orientation = self.orientation;
-        body.predicted_orientation = self.predicted;
-        body.rotation_correction = self.rotation_correction;
+    /// Writes the preview back to `body` as its pose (outside a step: tests, tools).
+    pub fn write_pose(&self, body: &mut Body) {
+        body.position = self.position;
+        body.orientation = self.orientation;
+        body.update_world_inertia();
     }
 
     /// World position of a body-space point at the preview pose.

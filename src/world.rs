@@ -255,7 +255,8 @@ impl World {
             });
         }
         if settings.contacts {
-            let depth = |p: &ContactPoint| -p.separation(self.body(p.body_a), self.body(p.body_b));
+            let depth =
+                |p: &ContactPoint| -p.separation_at(self.body(p.body_a), self.body(p.body_b));
             let too_deep = |p: &ContactPoint| depth(p) > settings.max_penetration;
             if let Some(index) = first_where(&self.contacts.points, too_deep) {
                 let p = &self.contacts.points[index];

@@ -158,8 +158,8 @@ impl BallSocket {
     /// World anchor points (a, b) at the preview pose (equal to the pose after a step).
     pub fn world_anchors(&self, a: &Body, b: &Body) -> (Vec3, Vec3) {
         (
-            a.preview_point(self.local_anchor_a),
-            b.preview_point(self.local_anchor_b),
+            a.world_point(self.local_anchor_a),
+            b.world_point(self.local_anchor_b),
         )
     }
 
@@ -169,13 +169,13 @@ impl BallSocket {
         let (pa, pb) = self.world_anchors(a, b);
         let mut angular = self.limit.map_or(0.0, |limit| {
             limit.violation(
-                a.preview_orientation * self.local_frame_a,
-                b.preview_orientation * self.local_frame_b,
+                a.orientation * self.local_frame_a,
+                b.orientation * self.local_frame_b,
             )
         });
         if let Some(spring) = self.spring.filter(|s| s.relaxation >= 1.0) {
             // A spring with relaxation 1 is a hard angular target: its error counts.
-            let error = a.preview_orientation * spring.rest * b.preview_orientation.inverse();
+            let error = a.orientation * spring.rest * b.orientation.inverse();
             angular += rotation_vector(error).length();
         }
         Violation {

@@ -62,9 +62,9 @@ impl Constraint {
         }
     }
 
-    /// One projection of this constraint on the bodies' preview poses, outside a step (tests
-    /// and tools; the solver works on rows and [`SolverBody`]s). Limits unwrap their twist
-    /// against the bodies' current orientations.
+    /// One projection of this constraint on the bodies' poses, outside a step (tests and tools;
+    /// the solver works on rows and [`SolverBody`]s): the poses are the preview, and get the
+    /// projection. Limits unwrap their twist against the bodies' orientations.
     pub fn solve(&self, bodies: &mut [Body]) {
         let (ia, ib) = self.bodies();
         let (a, b) = parts::pair_mut(bodies, ia.index(), ib.index());
@@ -78,8 +78,8 @@ impl Constraint {
             }
             Constraint::Rod(rod) => rod.prepare().solve(&mut sa, &mut sb),
         }
-        sa.write_preview(a);
-        sb.write_preview(b);
+        sa.write_pose(a);
+        sb.write_pose(b);
     }
 
     /// The residual (paper Fig. 8): dislocation (m) and angular violation (rad).

@@ -1,7 +1,7 @@
 //! A body as contact detection reads it: a compact record per body, built once per step.
 //!
 //! The settled 1000-ragdoll rain tests about 57 000 candidate pairs a frame, two thirds of them
-//! without a contact. Read from [`Body`] (320 bytes, the fields a pair needs spread over several
+//! without a contact. Read from [`Body`] (256 bytes, the fields a pair needs spread over several
 //! cache lines) every pair waited on its bodies' lines, and a pair that touches on its bodies'
 //! friction coefficients in yet another (in a profile, a third of the pair loop's own time
 //! stood on those loads). The record holds all that the broad phase's box loop, the narrow

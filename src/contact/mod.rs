@@ -154,11 +154,6 @@ impl ContactPoint {
         (b.world_point(self.local_b) - a.world_point(self.local_a)).dot(self.normal)
     }
 
-    /// Separation (m) of the two points along the normal at the preview poses.
-    pub fn separation(&self, a: &Body, b: &Body) -> f32 {
-        (b.preview_point(self.local_b) - a.preview_point(self.local_a)).dot(self.normal)
-    }
-
     /// One projection on the preview poses: the normal push (its accumulated impulse kept at or
     /// above zero), then friction on the anchors' slip within the Coulomb cone.
     pub fn solve(&mut self, a: &mut SolverBody, b: &mut SolverBody) {
@@ -384,7 +379,7 @@ impl Contacts {
     pub fn max_penetration(&self, bodies: &[Body]) -> f32 {
         self.points
             .iter()
-            .map(|p| -p.separation(&bodies[p.body_a.index()], &bodies[p.body_b.index()]))
+            .map(|p| -p.separation_at(&bodies[p.body_a.index()], &bodies[p.body_b.index()]))
             .fold(0.0, f32::max)
     }
 }

@@ -75,10 +75,6 @@ pub(super) fn commit_pose(body: &mut Body, hot: &SolverBody, h: f32) {
     }
     body.position = hot.position;
     body.orientation = hot.orientation;
-    body.preview_position = hot.position;
-    body.preview_orientation = hot.orientation;
-    body.predicted_orientation = hot.orientation;
-    body.rotation_correction = Vec3::ZERO;
     body.update_world_inertia();
 }
 

@@ -112,10 +112,6 @@ pub(super) fn commit_batch<L: Lane>(bodies: &mut [Body], hot: &[SolverBody], h: 
         body.angular_velocity = angular.lane(i);
         body.position = p;
         body.orientation = q;
-        body.preview_position = p;
-        body.preview_orientation = q;
-        body.predicted_orientation = q;
-        body.rotation_correction = Vec3::ZERO;
         body.inverse_inertia_world = world_inverse_inertia[i];
     }
 }

@@ -204,8 +204,8 @@ impl Rod {
     /// World rod frames F(0), F(1) at the preview poses.
     pub fn frames(&self, a: &Body, b: &Body) -> (Quat, Quat) {
         (
-            a.preview_orientation * self.local_frame_a,
-            b.preview_orientation * self.local_frame_b,
+            a.orientation * self.local_frame_a,
+            b.orientation * self.local_frame_b,
         )
     }
 
@@ -235,7 +235,7 @@ impl Rod {
     pub fn state(&self, a: &Body, b: &Body) -> RodState {
         let (fa, fb) = self.frames(a, b);
         let (ta, tb) = (fa * Vec3::X, fb * Vec3::X);
-        let (pa, pb) = (a.preview_position, b.preview_position);
+        let (pa, pb) = (a.position, b.position);
         RodState {
             psi: angle_between(ta, tb),
             tau: self.twist(fa, fb),
@@ -259,9 +259,9 @@ impl Rod {
     pub fn sample(&self, a: &Body, b: &Body, s: f32) -> (Vec3, Quat) {
         let (fa, fb) = self.frames(a, b);
         let (ta, tb) = (fa * Vec3::X, fb * Vec3::X);
-        let end = arc_point(a.preview_position, ta, tb, self.rest_length, 1.0);
-        let gap = b.preview_position - end;
-        let point = arc_point(a.preview_position, ta, tb, self.rest_length, s) + s * gap;
+        let end = arc_point(a.position, ta, tb, self.rest_length, 1.0);
+        let gap = b.position - end;
+        let point = arc_point(a.position, ta, tb, self.rest_length, s) + s * gap;
         let psi = angle_between(ta, tb);
         let bend_axis = ta
             .cross(tb)
