@@ -138,3 +138,179 @@ impl<L: Lane> ContactLanes<L> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::body::{Body, BodyId, BodyKind};
+    use crate::contact::{ContactPoint, Stacking};
+    use crate::math::{Quat, Vec3};
+    use crate::shape::{Axis, Shape};
+    use crate::solver_body::SolverBody;
+
+    /// A floor and `n` tilted capsules above it at various heights, each with one point on the
+    /// floor in a different state: touched or not, sticking or slid, with or without an impulse
+    /// from the last substep.
+    fn scene(n: usize) -> (Vec<Body>, Vec<ContactPoint>) {
+        let mut bodies = vec![Body::new("floor", BodyKind::Fixed, Shape::HalfSpace, 1.0)];
+        let mut points = Vec::new();
+        for i in 0..n {
+            let x = i as f32;
+            let shape = Shape::Capsule {
+                half_height: 0.2,
+                radius: 0.05,
+                axis: Axis::X,
+            };
+            let turn = Quat::from_rotation_z(0.07 * (x - 5.0)) * Quat::from_rotation_y(0.3 * x);
+            let body = Body::new(format!("c{i}"), BodyKind::Dynamic, shape, 1.0 + 0.2 * x)
+                .with_pose(Vec3::new(x, 0.04 + 0.004 * x, 0.1 * x), turn);
+            bodies.push(body);
+            let local_b = Vec3::new(0.1 - 0.02 * x, -0.05, 0.0);
+            points.push(ContactPoint {
+                body_a: BodyId(0),
+                body_b: BodyId(i as u32 + 1),
+                normal: Vec3::Y,
+                local_a: Vec3::new(x, 0.0, 0.1 * x),
+                local_b,
+                anchor_a: Vec3::new(x + 0.003, 0.0, 0.1 * x),
+                anchor_b: local_b + Vec3::new(0.001 * x, 0.0, -0.002),
+                static_friction: 0.6,
+                dynamic_friction: 0.5,
+                restitution: 0.1 * (i % 3) as f32,
+                approach_speed: -0.5 * x,
+                sticking: i % 3 != 0,
+                touched: i % 2 == 0,
+                normal_impulse: if i % 4 < 2 { 0.01 * x } else { 0.0 },
+                friction_impulse: 0.002,
+                ..ContactPoint::UNSOLVED
+            });
+        }
+        (bodies, points)
+    }
+
+    fn start(first: bool) -> SubstepStart {
+        SubstepStart {
+            h: 1.0 / 240.0,
+            push_speed: 3.0,
+            compliance: 0.02,
+            damping: 0.3,
+            stacking: Stacking {
+                up: Vec3::Y,
+                rate: 10.0,
+            },
+            first,
+        }
+    }
+
+    fn close(a: f32, b: f32) -> bool {
+        (a - b).abs() <= 1e-6 * (1.0 + a.abs().max(b.abs()))
+    }
+
+    /// A substep's start in lanes (16 points, and a batch of 5 padded to 16) gives each point
+    /// what the scalar start gives it: the push-out allowance and soft contacts' starting
+    /// separation, stacking's mass scales (the lanes' `exp`, to rounding), fresh anchors for the
+    /// points that slid or have not touched from the frame's second substep on, the flags, and
+    /// the impulses moved to the warm start.
+    #[test]
+    fn the_substep_start_in_lanes_is_the_scalar_start() {
+        for (n, first) in [(16, false), (5, false), (16, true)] {
+            let (bodies, points) = scene(n);
+            let mut scalar = points.clone();
+            scalar
+                .iter_mut()
+                .for_each(|p| p.begin_substep(&bodies, &start(first)));
+            let mut lanes = ContactLanes::<wide::f32x16>::pack(&points);
+            lanes.begin_substep(&bodies, &start(first));
+            let mut unpacked = points.clone();
+            lanes.unpack(&mut unpacked);
+            let mut fresh_anchors = 0;
+            for (i, (s, l)) in scalar.iter().zip(&unpacked).enumerate() {
+                let what = format!("point {i} of {n}, first substep {first}");
+                assert!(
+                    close(s.allowed_penetration, l.allowed_penetration),
+                    "{what}"
+                );
+                assert!(close(s.start_separation, l.start_separation), "{what}");
+                assert!(close(s.mass_scale_a, l.mass_scale_a), "{what}");
+                assert!(close(s.mass_scale_b, l.mass_scale_b), "{what}");
+                assert!((s.anchor_b - l.anchor_b).length() < 1e-6, "{what}");
+                assert_eq!(s.anchor_a, l.anchor_a, "{what}");
+                assert_eq!((s.touched, s.sticking), (l.touched, l.sticking), "{what}");
+                assert_eq!(s.warm_impulse, l.warm_impulse, "{what}");
+                assert_eq!((l.normal_impulse, l.friction_impulse), (0.0, 0.0), "{what}");
+                assert_eq!(
+                    (s.compliance, s.damping),
+                    (l.compliance, l.damping),
+                    "{what}"
+                );
+                fresh_anchors += (points[i].anchor_b != s.anchor_b) as u32;
+            }
+            // the second substep re-anchors some points, the first none
+            assert_eq!(
+                fresh_anchors == 0,
+                first,
+                "{n} points, first substep {first}"
+            );
+        }
+    }
+
+    /// The warm start in lanes moves the preview poses as the scalar warm start does, point
+    /// after point (the rows share no movable body), and the velocity pass read from the lanes
+    /// changes the world bodies' velocities to the bit as the scalar pass.
+    #[test]
+    fn the_warm_start_and_the_velocity_pass_in_lanes_are_the_scalar_ones() {
+        let (mut bodies, points) = scene(16);
+        for (i, body) in bodies.iter_mut().enumerate().skip(1) {
+            body.linear_velocity = Vec3::new(0.1 * i as f32, -0.4, 0.05);
+            body.angular_velocity = Vec3::new(0.3, -0.2 * i as f32, 0.1);
+        }
+        let mut begun = points.clone();
+        begun
+            .iter_mut()
+            .for_each(|p| p.begin_substep(&bodies, &start(false)));
+        // the scalar passes, point after point
+        let mut scalar_hot: Vec<SolverBody> = bodies.iter().map(SolverBody::from_body).collect();
+        let mut scalar = begun.clone();
+        for p in &mut scalar {
+            let (a, b) = crate::solver_body::pair_mut(&mut scalar_hot, 0, p.body_b.index());
+            p.warm_start(a, b, 0.5, 10.0);
+        }
+        let mut scalar_bodies = bodies.clone();
+        let shared = SharedSlice::new(&mut scalar_bodies);
+        // SAFETY: one thread
+        scalar
+            .iter()
+            .for_each(|p| unsafe { p.velocity_pass(shared, 0.3) });
+        // the lanes
+        let mut lanes_hot: Vec<SolverBody> = bodies.iter().map(SolverBody::from_body).collect();
+        let mut lanes = ContactLanes::<wide::f32x16>::pack(&begun);
+        lanes.warm_start(SharedBodies::new(&mut lanes_hot), 0.5, 10.0);
+        let mut lanes_bodies = bodies.clone();
+        // SAFETY: one thread
+        unsafe { lanes.velocity_pass(SharedSlice::new(&mut lanes_bodies), 0.3) };
+        let mut unpacked = begun.clone();
+        lanes.unpack(&mut unpacked);
+        let (mut moved, mut slowed) = (0, 0);
+        for i in 1..bodies.len() {
+            let (s, l) = (&scalar_hot[i], &lanes_hot[i]);
+            assert!((s.position - l.position).length() < 1e-6, "body {i}");
+            assert!(
+                s.orientation.dot(l.orientation).abs() > 1.0 - 1e-6,
+                "body {i}"
+            );
+            moved += (s.position != bodies[i].position) as u32;
+            let (s, l) = (&scalar_bodies[i], &lanes_bodies[i]);
+            assert_eq!(s.linear_velocity, l.linear_velocity, "body {i}");
+            assert_eq!(s.angular_velocity, l.angular_velocity, "body {i}");
+            slowed += (l.linear_velocity != bodies[i].linear_velocity) as u32;
+        }
+        assert!(moved >= 4, "{moved} bodies warm-started");
+        assert!(slowed >= 4, "{slowed} bodies changed by the velocity pass");
+        for (s, l) in scalar.iter().zip(&unpacked) {
+            assert_eq!(
+                (s.warm_impulse, s.normal_impulse),
+                (l.warm_impulse, l.normal_impulse)
+            );
+        }
+    }
+}

@@ -273,3 +273,136 @@ impl<L: Lane> Q<L> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::quat_from_rotation_vector;
+    use crate::shape::{Axis, Shape};
+
+    /// Sixteen bodies (capsules and boxes, some elongated, some spinning fast enough that the
+    /// gyroscopic update runs its fixed-point passes, one over the angular speed limit) with
+    /// forces and damping, as the solver's settings give them.
+    fn bodies(count: usize) -> Vec<Body> {
+        (0..count)
+            .map(|i| {
+                let x = i as f32;
+                let shape = match i % 3 {
+                    0 => Shape::Capsule {
+                        half_height: 0.1 + 0.05 * x,
+                        radius: 0.04,
+                        axis: Axis::Y,
+                    },
+                    1 => Shape::Cuboid {
+                        half_extents: Vec3::new(0.3, 0.05 + 0.01 * x, 0.1),
+                    },
+                    _ => Shape::Sphere { radius: 0.1 },
+                };
+                let turn = quat_from_rotation_vector(Vec3::new(0.3 * x, -0.2, 0.1 * x));
+                let mut body = Body::new("b", BodyKind::Dynamic, shape, 1.0 + 0.5 * x)
+                    .with_pose(Vec3::new(x, 1.0, -x), turn);
+                body.linear_velocity = Vec3::new(0.1 * x, -1.0, 0.5);
+                let spin = if i == 7 { 140.0 } else { 0.02 + 2.0 * x };
+                body.angular_velocity = Vec3::new(1.0, 0.3 * x, -0.5).normalize() * spin;
+                body.external_force = Vec3::new(0.0, 0.0, 2.0 * x);
+                body
+            })
+            .collect()
+    }
+
+    fn settings(substeps: u32) -> Settings {
+        Settings {
+            substeps,
+            angular_speed_limit: 100.0,
+            linear_damping: 0.05,
+            angular_damping: 0.5,
+            ..Settings::default()
+        }
+    }
+
+    fn close(a: Vec3, b: Vec3) -> bool {
+        (a - b).length() <= 2e-5 * (1.0 + a.length())
+    }
+
+    /// Steps 3.1-3.2 and 3.4 in lanes give each body what the scalar per-body steps give it,
+    /// to rounding (the lanes' `sin_cos` and `atan2` against libm's), with one step a frame
+    /// (four gyroscopic passes) and with substeps (passes until converged), for a full batch
+    /// and a short one; a batch with a fixed body runs the scalar code to the bit.
+    #[test]
+    fn the_lanes_integrate_and_commit_as_the_scalar_code() {
+        type L = wide::f32x16;
+        for (count, substeps) in [(16, 1), (16, 4), (5, 4)] {
+            let settings = settings(substeps);
+            let h = settings.dt / substeps as f32;
+            let (mut scalar, mut lanes) = (bodies(count), bodies(count));
+            let mut scalar_hot = vec![SolverBody::default(); count];
+            let mut lanes_hot = vec![SolverBody::default(); count];
+            for (body, hot) in scalar.iter_mut().zip(&mut scalar_hot) {
+                integrate_velocity(body, &settings, h);
+                *hot = predict_pose(body, h);
+            }
+            predict_batch::<L>(&mut lanes, &mut lanes_hot, &settings, h);
+            for i in 0..count {
+                let what = format!("body {i} of {count}, {substeps} substeps");
+                let (s, l) = (&scalar[i], &lanes[i]);
+                assert!(close(s.linear_velocity, l.linear_velocity), "{what}");
+                assert!(close(s.angular_velocity, l.angular_velocity), "{what}");
+                assert!(
+                    l.angular_velocity.length() <= 100.0 * (1.0 + 1e-6),
+                    "{what}"
+                );
+                let (s, l) = (&scalar_hot[i], &lanes_hot[i]);
+                assert!(close(s.position, l.position), "{what}");
+                assert!(
+                    s.orientation.dot(l.orientation).abs() > 1.0 - 1e-6,
+                    "{what}"
+                );
+                for k in 0..3 {
+                    let (a, b) = (s.inverse_inertia.col(k), l.inverse_inertia.col(k));
+                    assert!(close(a, b), "{what}: inverse inertia {a} against {b}");
+                }
+            }
+            // the solver's corrections, then the commit
+            for (i, hot) in scalar_hot.iter_mut().chain(&mut lanes_hot).enumerate() {
+                hot.position += Vec3::new(0.001, -0.002, 0.0005 * (i % count) as f32);
+                hot.orientation = crate::math::rotate_by_small(hot.orientation, Vec3::splat(0.01));
+            }
+            let lanes_before = lanes.clone();
+            for (body, hot) in scalar.iter_mut().zip(&scalar_hot) {
+                commit_pose(body, hot, h);
+            }
+            commit_batch::<L>(&mut lanes, &lanes_hot, h);
+            for i in 0..count {
+                let what = format!("commit, body {i} of {count}");
+                let (s, l) = (&scalar[i], &lanes[i]);
+                assert!(close(s.linear_velocity, l.linear_velocity), "{what}");
+                assert!(close(s.angular_velocity, l.angular_velocity), "{what}");
+                assert_eq!(l.position, lanes_hot[i].position, "{what}");
+                assert_ne!(l.position, lanes_before[i].position, "{what}");
+                for k in 0..3 {
+                    let (a, b) = (
+                        s.inverse_inertia_world.col(k),
+                        l.inverse_inertia_world.col(k),
+                    );
+                    assert!(close(a, b), "{what}: inverse inertia {a} against {b}");
+                }
+            }
+        }
+        // a fixed body in the batch: the scalar code, bit for bit
+        let settings = settings(4);
+        let mut with_fixed = bodies(16);
+        with_fixed[3] = Body::new("floor", BodyKind::Fixed, Shape::HalfSpace, 1.0);
+        let mut expected = with_fixed.clone();
+        let mut expected_hot = vec![SolverBody::default(); 16];
+        for (body, hot) in expected.iter_mut().zip(&mut expected_hot) {
+            integrate_velocity(body, &settings, 1.0 / 240.0);
+            *hot = predict_pose(body, 1.0 / 240.0);
+        }
+        let mut hot = vec![SolverBody::default(); 16];
+        predict_batch::<L>(&mut with_fixed, &mut hot, &settings, 1.0 / 240.0);
+        for i in 0..16 {
+            assert_eq!(with_fixed[i].angular_velocity, expected[i].angular_velocity);
+            assert_eq!(hot[i].orientation, expected_hot[i].orientation);
+        }
+    }
+}
