@@ -1251,3 +1251,53 @@ fn the_overlap_found_afresh_sees_what_the_points_miss() {
         "found afresh {afresh} m, expected {depth} m"
     );
 }
+
+/// The health check's contact bound (solver step 4): `n` boxes of 20 cm started 15 cm into the
+/// floor, in a row. The push out of overlap is capped at 3 m/s, 5 cm a frame, so after the
+/// first frame every box is still about 10 cm deep: past a `max_penetration` of 5 cm, the run
+/// stops naming the first box in the world's order (whatever the thread count: 1200 boxes
+/// make 4800 points, which the check scans beside the bodies on a second thread). A box made
+/// non-finite as well is reported first: bodies, then joints, then contacts.
+fn sunk_boxes(n: usize) -> World {
+    let mut world = World::new(Settings {
+        contact_push_speed: 3.0,
+        max_penetration: 0.05,
+        ..settings()
+    });
+    plane(&mut world, Quat::IDENTITY);
+    let half = Vec3::splat(0.1);
+    for i in 0..n {
+        let at = Vec3::new(0.5 * (i % 40) as f32, half.y - 0.15, 0.5 * (i / 40) as f32);
+        world.add_body(
+            Body::new(
+                format!("box{i}"),
+                BodyKind::Dynamic,
+                Shape::Cuboid { half_extents: half },
+                1.0,
+            )
+            .with_pose(at, Quat::IDENTITY),
+        );
+    }
+    world
+}
+
+#[test]
+fn a_contact_driven_past_the_penetration_bound_stops_the_run_naming_both_bodies() {
+    for n in [3, 1200] {
+        let mut world = sunk_boxes(n);
+        let error = world.step().expect_err("every box is still 10 cm deep");
+        assert_eq!(error.frame, 1);
+        assert_eq!(error.body, "box0", "{n} boxes: {error}");
+        assert!(
+            error.reason.starts_with("was driven 0.1") && error.reason.contains("\"floor\""),
+            "{n} boxes: {error}"
+        );
+
+        let mut world = sunk_boxes(n);
+        let last = world.bodies.len() - 1;
+        world.bodies[last].linear_velocity.x = f32::NAN;
+        let error = world.step().expect_err("a NaN body");
+        assert_eq!(error.body, format!("box{}", n - 1), "{n} boxes: {error}");
+        assert!(error.reason.contains("non-finite"), "{n} boxes: {error}");
+    }
+}
