@@ -68,8 +68,11 @@ impl Detection {
             broad_phase.report_others(colliders, |a, b| others.push((a, b)));
             broad_phase.kept_len()
         };
+        // the broad phase (the longer) on this thread; the handover waits for the other thread,
+        // which first finishes the joints' rows the solver prepares beside detection (the
+        // other way round both ran here one after the other: 1.5 against 1.2 ms in the rain)
         let kept = if rayon::current_num_threads() > 1 && bodies.len() >= PARALLEL_BODIES {
-            rayon::join(|| handover.take(points, bodies.len()), broad).1
+            rayon::join(broad, || handover.take(points, bodies.len())).0
         } else {
             handover.take(points, bodies.len());
             broad()

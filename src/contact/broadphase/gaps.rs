@@ -79,21 +79,6 @@ pub fn out_of_reach(gap: f32, a: &Motion, b: &Motion, margin: f32, dt: f32) -> b
     gap > margin + dt * (a.speed + b.speed) + SLACK
 }
 
-/// Keeps the pairs (and their bounds) for which `keep` holds, in order.
-pub fn retain(pairs: &mut Vec<(u32, u32)>, gaps: &mut Vec<f32>, keep: impl Fn(u32, u32) -> bool) {
-    let mut kept = 0;
-    for i in 0..pairs.len() {
-        let (a, b) = pairs[i];
-        if keep(a, b) {
-            pairs[kept] = pairs[i];
-            gaps[kept] = gaps[i];
-            kept += 1;
-        }
-    }
-    pairs.truncate(kept);
-    gaps.truncate(kept);
-}
-
 /// `new_gaps` for the sorted `new_pairs`: the bound a pair had among the sorted `old_pairs`,
 /// or [`UNKNOWN`] for a pair new to the list.
 pub fn carry(
@@ -167,8 +152,5 @@ mod tests {
             &mut gaps,
         );
         assert_eq!(gaps, [0.1, UNKNOWN, 0.3, UNKNOWN]);
-        let (mut pairs, mut g) = (old.to_vec(), vec![0.1, 0.2, 0.3]);
-        retain(&mut pairs, &mut g, |a, _| a == 0);
-        assert_eq!((pairs, g), (vec![(0, 1), (0, 3)], vec![0.1, 0.2]));
     }
 }

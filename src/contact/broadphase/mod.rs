@@ -8,8 +8,9 @@
 //! on every side, which stays put while the tight box stays inside it. Pairs of overlapping fat
 //! boxes are kept from step to step; each step reports those whose tight boxes overlap. A body
 //! whose tight box leaves its fat box gets a new fat box ("moved"): its grid entries are
-//! replaced by the new box's cells (dropped by a pass over the entries, the new ones merged in
-//! sorted), and its pairs are dropped and found again by querying the grid with the new box.
+//! replaced by the new box's cells, and its pairs are dropped and found again by querying the
+//! grid with the new box (each list in one merge pass, which drops the moved bodies' old items,
+//! read from a bitset, and merges the new ones in sorted).
 //! A settled pile moves a few hundred bodies a step, so its broad phase costs the box updates
 //! and the report. Once more than a sixteenth of the bodies move in one step (a falling
 //! crowd), or a body wakes, sleeps or joins, the grid is rebuilt instead, its sweeps on several
@@ -51,7 +52,7 @@ use super::collider::{Collider, PARALLEL_BODIES};
 use crate::body::BodyKind;
 use crate::math::Vec3;
 use crate::shape::Shape;
-use grid::{cell_span, key, merge_sorted, Aabb};
+use grid::{cell_span, key, merge_kept, Aabb, Bits};
 
 /// How much larger than its tight box (m, each side) a body's fat box is: a body resting or
 /// swinging by a few centimetres keeps its fat box, and its pairs, for many steps.
@@ -147,8 +148,9 @@ pub struct BroadPhase {
     /// Scratch: the pairs found for the bodies moved this step, and the merge.
     found: Vec<(u32, u32)>,
     merged: Vec<(u32, u32)>,
-    /// Proxies moved this step (ascending).
+    /// Proxies moved this step (ascending), and as bits.
     moved: Vec<u32>,
+    moved_bits: Bits,
     /// Scratch: the moved proxies' new grid entries, and the merge.
     found_entries: Vec<(u64, u32)>,
     merged_entries: Vec<(u64, u32)>,
@@ -260,9 +262,9 @@ impl BroadPhase {
                 return false; // grown too large for the grid
             }
         }
-        // the grid: the moved bodies' entries out, their new cells in
+        // the grid: the moved bodies' entries out, their new cells in (one merge)
+        self.moved_bits.set(self.proxies.len(), &self.moved);
         let proxies = &mut self.proxies;
-        self.entries.retain(|&(_, i)| !proxies[i as usize].moved);
         self.found_entries.clear();
         for &m in &self.moved {
             let p = &mut proxies[m as usize];
@@ -280,14 +282,13 @@ impl BroadPhase {
             }
         }
         self.found_entries.sort_unstable();
-        merge_sorted(&self.entries, &self.found_entries, &mut self.merged_entries);
+        let moved = &self.moved_bits;
+        let (entries, found) = (&self.entries, &self.found_entries);
+        let kept = |&(_, i): &(u64, u32)| !moved.get(i);
+        merge_kept(entries, kept, found, &mut self.merged_entries, |_| {});
         std::mem::swap(&mut self.entries, &mut self.merged_entries);
         // the pairs: the moved bodies' dropped, found again in their new cells
         let proxies = &self.proxies;
-        let is_moved = |i: u32| proxies[i as usize].moved;
-        gaps::retain(&mut self.fat_pairs, &mut self.gaps, |a, b| {
-            !(is_moved(a) || is_moved(b))
-        });
         self.found.clear();
         for &m in &self.moved {
             let a = &proxies[m as usize];
@@ -322,14 +323,16 @@ impl BroadPhase {
                 }
             }
         }
+        // kept pairs keep their bounds, found ones start unknown (one merge)
         self.found.sort_unstable();
-        merge_sorted(&self.fat_pairs, &self.found, &mut self.merged);
-        gaps::carry(
-            &self.fat_pairs,
-            &self.gaps,
-            &self.merged,
-            &mut self.old_gaps,
-        );
+        let moved = &self.moved_bits;
+        let kept = |&(a, b): &(u32, u32)| !(moved.get(a) || moved.get(b));
+        let (pairs, bounds) = (&self.fat_pairs, &self.gaps);
+        let new_bounds = &mut self.old_gaps;
+        new_bounds.clear();
+        merge_kept(pairs, kept, &self.found, &mut self.merged, |from| {
+            new_bounds.push(from.map_or(gaps::UNKNOWN, |i| bounds[i]))
+        });
         std::mem::swap(&mut self.fat_pairs, &mut self.merged);
         std::mem::swap(&mut self.gaps, &mut self.old_gaps);
         true
