@@ -14,10 +14,10 @@
 //! (exact), `|det K| < 1e-20`, `w <= 0`, rotation angle `< 1e-9`, and a swing axis that does
 //! not normalise (glam's `try_normalize`) falls back to glam's `any_orthonormal_vector`.
 
-use super::{AngularLimit, JointFlavour, JointRow};
+use super::{JointFlavour, JointRow};
 use crate::body::Body;
 use crate::lanes::{
-    body_indices, not, padded, relative_rotation, BodyLanes, Lane, SymM3, MAX_LANES, Q, V3,
+    body_indices, exact, not, padded, relative_rotation, BodyLanes, Lane, SymM3, MAX_LANES, Q, V3,
 };
 use crate::math::Quat;
 use crate::solver_body::SharedBodies;
@@ -143,19 +143,18 @@ impl<L: Lane> JointLanes<L> {
         let Some(limit) = &mut self.limit else {
             return;
         };
-        let mut twist = [0.0f32; MAX_LANES];
-        for (i, twist) in twist.iter_mut().enumerate().take(L::W) {
-            // padded lanes repeat the first row; rows without a limit keep 0
+        // the scalar `AngularLimit::start_twist` in lanes, to the bit (`exact`); padded lanes
+        // repeat the first row, rows without a limit keep 0
+        let orientation =
+            |index: &[u32; MAX_LANES]| Q::<L>::from_fn(|i| bodies[index[i] as usize].orientation);
+        let frame_a = exact::quat_mul(orientation(&self.index_a), limit.frame_a);
+        let frame_b = exact::quat_mul(orientation(&self.index_b), limit.frame_b);
+        let twist = exact::start_twist(frame_a, frame_b);
+        let limited = L::from_fn(|i| {
             let row = if i < self.rows as usize { i } else { 0 };
-            if limit.limited & (1 << row) != 0 {
-                let (a, b) = (self.index_a[i] as usize, self.index_b[i] as usize);
-                *twist = AngularLimit::start_twist(
-                    bodies[a].orientation * limit.frame_a.lane(i),
-                    bodies[b].orientation * limit.frame_b.lane(i),
-                );
-            }
-        }
-        limit.start_twist = L::from_fn(|i| twist[i]);
+            (limit.limited & (1 << row) != 0) as u32 as f32
+        });
+        limit.start_twist = limited.gt(L::zero()).select(twist, L::zero());
     }
 
     /// One projection of every lane's joint: gather, spring, limits, point, scatter.

@@ -10,6 +10,7 @@
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Sub};
 
 mod body;
+pub mod exact;
 mod vector;
 
 pub use body::{relative_rotation, BodyLanes};
