@@ -1,11 +1,12 @@
 //! W-wide lanes for the batched solve (paper §7: "branch-free SIMD code, solving four
 //! constraints at once"; Box2D v3's `b2FloatW`, Rapier's SIMD joint groups).
 //!
-//! [`Lane`] is a float vector of `W` lanes (`wide::f32x4` or `wide::f32x8`); [`V3`], [`Q`] and
+//! [`Lane`] is a float vector of `W` lanes (`wide::f32x4`, `f32x8` or `f32x16`); [`V3`], [`Q`] and
 //! [`SymM3`] are glam's `Vec3`, `Quat` and a symmetric 3x3 matrix with one lane per
 //! constraint. Branches become masks: compute both sides, [`Lane::select`] per lane.
 //! [`BodyLanes`] holds W solver bodies gathered from [`crate::solver_body::SolverBody`]s by index and is scattered
 //! back after the batch; the body methods mirror the scalar ones on [`crate::solver_body::SolverBody`].
+//! [`exact`] computes what must match the scalar code to the bit (the joints' starting twist).
 
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Sub};
 
