@@ -89,6 +89,42 @@ pub(super) fn merge_kept<T: Ord + Copy>(
     }
 }
 
+/// Sorts `pairs` of proxy indices below `n` by (first, second), as `sort_unstable` would (the
+/// pairs are distinct), by two stable counting passes (second, then first) when `n` fits in 16
+/// bits: about 90 000 pairs at each grid rebuild of the landing rain, where the comparison sort
+/// took 0.8-1.6 ms on two threads. `scratch` and `counts` are reused storage.
+pub(super) fn sort_pairs(
+    pairs: &mut Vec<(u32, u32)>,
+    n: usize,
+    scratch: &mut Vec<(u32, u32)>,
+    counts: &mut Vec<u32>,
+) {
+    if n > 1 << 16 || pairs.len() < 4096 {
+        pairs.sort_unstable();
+        return;
+    }
+    let mut pass =
+        |from: &[(u32, u32)], to: &mut Vec<(u32, u32)>, digit: fn(&(u32, u32)) -> u32| {
+            counts.clear();
+            counts.resize(n + 1, 0);
+            for p in from {
+                counts[digit(p) as usize + 1] += 1;
+            }
+            for i in 0..n {
+                counts[i + 1] += counts[i];
+            }
+            to.clear();
+            to.resize(from.len(), (0, 0));
+            for p in from {
+                let at = &mut counts[digit(p) as usize];
+                to[*at as usize] = *p;
+                *at += 1;
+            }
+        };
+    pass(pairs, scratch, |p| p.1);
+    pass(scratch, pairs, |p| p.0);
+}
+
 /// One bit per proxy: which moved this step (a few hundred of 11 000 in a settled pile), read
 /// for every grid entry and pair; 1.4 kB for the rain's bodies, where the proxies' own flags
 /// are 0.7 MB apart.
@@ -132,6 +168,32 @@ mod tests {
         assert_eq!(from, [none, some(0), some(1), none, some(3), none, none]);
         merge_kept(&old, |_| true, &[], &mut out, |_| {});
         assert_eq!(out, old);
+    }
+
+    #[test]
+    fn sort_pairs_orders_as_the_comparison_sort() {
+        let n = 3000;
+        let mut state = 12345u64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state % n as u64) as u32
+        };
+        let mut pairs: Vec<(u32, u32)> = (0..20_000)
+            .map(|_| {
+                let (a, b) = (next(), next());
+                (a.min(b), a.max(b))
+            })
+            .collect();
+        pairs.sort_unstable();
+        pairs.dedup();
+        let sorted = pairs.clone();
+        pairs.reverse();
+        pairs.swap(10, 5000);
+        let (mut scratch, mut counts) = (Vec::new(), Vec::new());
+        sort_pairs(&mut pairs, n, &mut scratch, &mut counts);
+        assert_eq!(pairs, sorted);
     }
 
     #[test]

@@ -31,8 +31,8 @@
 //!
 //! Large worlds sort the entries and walk the cells on several threads: the cells are split into
 //! chunks at cell boundaries, each chunk's pairs into a reused buffer. The kept pairs are sorted
-//! by body, so the pairs and their order depend neither on the thread count nor on when the
-//! grid was rebuilt (tested).
+//! by body (two counting passes, [`grid::sort_pairs`]), so the pairs and their order depend
+//! neither on the thread count nor on when the grid was rebuilt (tested).
 //!
 //! Cost of a rebuild: a sort of about `8 n` entries plus the pairs in each cell, so it grows
 //! about linearly with the number of bodies for any layout where bodies do not all crowd into
@@ -52,7 +52,7 @@ use super::collider::{Collider, PARALLEL_BODIES};
 use crate::body::BodyKind;
 use crate::math::Vec3;
 use crate::shape::Shape;
-use grid::{cell_span, key, merge_kept, Aabb, Bits};
+use grid::{cell_span, key, merge_kept, sort_pairs, Aabb, Bits};
 
 /// How much larger than its tight box (m, each side) a body's fat box is: a body resting or
 /// swinging by a few centimetres keeps its fat box, and its pairs, for many steps.
@@ -145,9 +145,11 @@ pub struct BroadPhase {
     /// Scratch: the fat pairs and bounds before a rebuild or merge, to carry the bounds over.
     old_pairs: Vec<(u32, u32)>,
     old_gaps: Vec<f32>,
-    /// Scratch: the pairs found for the bodies moved this step, and the merge.
+    /// Scratch: the pairs found for the bodies moved this step, and the merge (also the pair
+    /// sort's); the pair sort's counts.
     found: Vec<(u32, u32)>,
     merged: Vec<(u32, u32)>,
+    counts: Vec<u32>,
     /// Proxies moved this step (ascending), and as bits.
     moved: Vec<u32>,
     moved_bits: Bits,
@@ -367,12 +369,8 @@ impl BroadPhase {
         for out in &self.chunk_pairs[..chunks] {
             self.fat_pairs.extend_from_slice(&out.pairs);
         }
-        if self.fat_pairs.len() >= PARALLEL_SORT && threads > 1 {
-            use rayon::slice::ParallelSliceMut;
-            self.fat_pairs.par_sort_unstable();
-        } else {
-            self.fat_pairs.sort_unstable();
-        }
+        let n = self.proxies.len();
+        sort_pairs(&mut self.fat_pairs, n, &mut self.merged, &mut self.counts);
         gaps::carry(
             &self.old_pairs,
             &self.old_gaps,
