@@ -43,10 +43,13 @@ pub(super) fn cell_of(x: f32, inverse_cell: f32) -> i64 {
     truncated - ((truncated as f32) > scaled) as i64
 }
 
+/// Each cell coordinate's bits in a [`key`].
+pub(super) const KEY_MASK: u64 = (1 << 21) - 1;
+
 /// Packs three cell coordinates (each within +-2^20) into one sortable key.
 pub(super) fn key(cell: [i64; 3]) -> u64 {
-    const MASK: i64 = (1 << 21) - 1;
-    (((cell[0] & MASK) as u64) << 42) | (((cell[1] & MASK) as u64) << 21) | (cell[2] & MASK) as u64
+    let field = |c: i64| c as u64 & KEY_MASK;
+    (field(cell[0]) << 42) | (field(cell[1]) << 21) | field(cell[2])
 }
 
 /// The cells a box covers, per axis, and how many.

@@ -52,7 +52,7 @@ use super::collider::{Collider, PARALLEL_BODIES};
 use crate::body::BodyKind;
 use crate::math::Vec3;
 use crate::shape::Shape;
-use grid::{cell_span, key, merge_kept, sort_pairs, Aabb, Bits};
+use grid::{cell_span, key, merge_kept, sort_pairs, Aabb, Bits, KEY_MASK};
 
 /// How much larger than its tight box (m, each side) a body's fat box is: a body resting or
 /// swinging by a few centimetres keeps its fat box, and its pairs, for many steps.
@@ -94,8 +94,9 @@ impl Flags {
 struct CellBox {
     index: u32,
     flags: Flags,
+    /// Bit k: the box's lowest cell along axis k is this cell's (see [`cell_pairs`]).
+    starts_here: u8,
     fat: Aabb,
-    low_cell: [i64; 3],
 }
 
 /// More than one in `REBUILD_MOVED` of the bodies getting new fat boxes in a step rebuilds
@@ -455,20 +456,23 @@ fn cell_pairs(entries: &[(u64, u32)], proxies: &[Proxy], out: &mut ChunkPairs) {
         while end < entries.len() && entries[end].0 == cell_key {
             end += 1;
         }
-        // the cell's boxes by their lower x, swept: a box meets only those that start
-        // before it ends (a pile puts up to 80 boxes in a cell; testing all pairs was
-        // most of the broad phase)
+        // the cell's coordinates as the key holds them (each masked to 21 bits)
+        let here = [42, 21, 0].map(|shift| (cell_key >> shift) & KEY_MASK);
         let group = &mut out.group;
         group.clear();
         group.extend(entries[start..end].iter().map(|&(_, index)| {
             let p = &proxies[index as usize];
+            let low = p.low_cell.map(|c| c as u64 & KEY_MASK);
             CellBox {
                 index,
                 flags: p.flags,
+                starts_here: (0..3).fold(0, |bits, k| bits | ((low[k] == here[k]) as u8) << k),
                 fat: p.fat,
-                low_cell: p.low_cell,
             }
         }));
+        // the cell's boxes by their lower x, swept: a box meets only those that start
+        // before it ends (a pile puts up to 80 boxes in a cell; testing all pairs was
+        // most of the broad phase)
         group.sort_unstable_by(|a, b| a.fat.min[0].total_cmp(&b.fat.min[0]));
         for (i, a) in group.iter().enumerate() {
             for b in &group[i + 1..] {
@@ -478,11 +482,10 @@ fn cell_pairs(entries: &[(u64, u32)], proxies: &[Proxy], out: &mut ChunkPairs) {
                 if !a.flags.may_touch(b.flags) || !a.fat.overlaps(&b.fat) {
                     continue;
                 }
-                // the overlap's lower corner decides the one cell that reports the pair: the
-                // cell of the larger lower bound on each axis (the cell index is monotonic in
-                // the coordinate, so this is `corner_cell` without its three conversions)
-                let corner = [0, 1, 2].map(|k| a.low_cell[k].max(b.low_cell[k]));
-                if key(corner) == cell_key {
+                // reported from the one cell holding the overlap's lower corner: per axis the
+                // larger of the two lowest cells, which is this cell's exactly when one of the
+                // boxes starts here (both reach it)
+                if a.starts_here | b.starts_here == 0b111 {
                     out.pairs.push((a.index.min(b.index), a.index.max(b.index)));
                 }
             }
