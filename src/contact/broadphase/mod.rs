@@ -416,7 +416,7 @@ impl BroadPhase {
             }
         }
         // (cell, proxy) entries are unique, so any sort gives the same order: a parallel one for
-        // large worlds (about 100 000 entries at 1000 ragdolls)
+        // large worlds (about 33 000 entries in the 1000-ragdoll rain)
         if self.entries.len() >= PARALLEL_SORT && rayon::current_num_threads() > 1 {
             use rayon::slice::ParallelSliceMut;
             self.entries.par_sort_unstable();
