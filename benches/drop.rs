@@ -7,9 +7,13 @@
 //! --bench drop`; `cargo bench --bench drop -- rain` runs the rain alone (about a minute to
 //! settle it first).
 
-use criterion::{criterion_group, criterion_main, BatchSize, BenchmarkId, Criterion, Throughput};
+use criterion::measurement::WallTime;
+use criterion::{
+    criterion_group, criterion_main, BatchSize, BenchmarkGroup, BenchmarkId, Criterion, Throughput,
+};
 use rodlab::body::{Body, BodyKind};
 use rodlab::contact::Contacts;
+use rodlab::lab::Lab;
 use rodlab::math::{Iso, Quat, Vec3};
 use rodlab::ragdoll::{build_humanoid, HumanoidSpec, SpineKind};
 use rodlab::scene::Scene;
@@ -17,31 +21,47 @@ use rodlab::shape::Shape;
 use rodlab::sim::{self, NoObserver, Overrides};
 use rodlab::world::{Settings, World};
 
+/// `file`'s scene (at `variant`, if any) with `spine`, built and stepped: the lab after each
+/// of `frames`' counts of frames in turn (a cumulative schedule: `[60, 480]` gives the labs at
+/// 1 s and at 9 s).
+fn labs_at(file: &str, variant: Option<&str>, spine: SpineKind, frames: &[u32]) -> Vec<Lab> {
+    let path = format!("{}/scenes/{file}", env!("CARGO_MANIFEST_DIR"));
+    let mut scene = Scene::load(&path).unwrap();
+    if let Some(name) = variant {
+        scene = scene.variant(name).unwrap();
+    }
+    Overrides {
+        spine: Some(spine),
+        ..Default::default()
+    }
+    .apply(&mut scene.def);
+    let mut lab = scene.build().unwrap();
+    let mut labs = Vec::new();
+    for &n in frames {
+        sim::run(&mut lab, n, &mut NoObserver).unwrap();
+        labs.push(lab.clone());
+    }
+    labs
+}
+
+/// One step of `world`, each from a fresh copy of it.
+fn bench_step(group: &mut BenchmarkGroup<'_, WallTime>, name: String, world: &World) {
+    group.bench_function(name, |b| {
+        b.iter_batched_ref(
+            || world.clone(),
+            |w| w.step().unwrap(),
+            BatchSize::LargeInput,
+        )
+    });
+}
+
 fn drop_step(c: &mut Criterion) {
-    let scene = Scene::load(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/scenes/ragdoll_drop.toml"
-    ))
-    .unwrap();
     let mut group = c.benchmark_group("ragdoll_drop_step");
     group.sample_size(20);
     for spine in [SpineKind::Chain3, SpineKind::Rod] {
-        let mut variant = scene.clone();
-        Overrides {
-            spine: Some(spine),
-            ..Default::default()
-        }
-        .apply(&mut variant.def);
-        let mut lab = variant.build().unwrap();
-        sim::run(&mut lab, 150, &mut NoObserver).unwrap(); // 2.5 s: the lower layers have landed
-        let world = lab.world;
-        group.bench_function(spine.to_string(), |b| {
-            b.iter_batched_ref(
-                || world.clone(),
-                |w| w.step().unwrap(),
-                BatchSize::LargeInput,
-            )
-        });
+        // 2.5 s: the lower layers have landed
+        let lab = &labs_at("ragdoll_drop.toml", None, spine, &[150])[0];
+        bench_step(&mut group, spine.to_string(), &lab.world);
     }
     group.finish();
 }
@@ -126,38 +146,16 @@ fn sleeping(c: &mut Criterion) {
 /// pile (at 1 s) against one of the settled pile (at 10 s, all asleep: asserted), per spine.
 /// Issue 10's target: settled at most 20% of falling.
 fn settled_against_falling(c: &mut Criterion) {
-    let scene = Scene::load(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/scenes/ragdoll_drop.toml"
-    ))
-    .unwrap()
-    .variant("at_rest")
-    .unwrap();
     let mut group = c.benchmark_group("drop_at_rest_step");
     group.sample_size(20);
     for spine in [SpineKind::Chain3, SpineKind::Rod] {
-        let mut variant = scene.clone();
-        Overrides {
-            spine: Some(spine),
-            ..Default::default()
-        }
-        .apply(&mut variant.def);
-        let mut lab = variant.build().unwrap();
-        sim::run(&mut lab, 60, &mut NoObserver).unwrap();
-        let falling = lab.world.clone();
-        sim::run(&mut lab, 540, &mut NoObserver).unwrap();
+        let labs = labs_at("ragdoll_drop.toml", Some("at_rest"), spine, &[60, 540]);
         assert_eq!(
-            lab.world.awake_bodies, 0,
+            labs[1].world.awake_bodies, 0,
             "{spine}: the pile is not asleep at 10 s"
         );
-        for (phase, world) in [("falling", falling), ("settled", lab.world)] {
-            group.bench_function(format!("{spine}/{phase}"), |b| {
-                b.iter_batched_ref(
-                    || world.clone(),
-                    |w| w.step().unwrap(),
-                    BatchSize::LargeInput,
-                )
-            });
+        for (phase, lab) in ["falling", "settled"].into_iter().zip(&labs) {
+            bench_step(&mut group, format!("{spine}/{phase}"), &lab.world);
         }
     }
     group.finish();
@@ -165,16 +163,11 @@ fn settled_against_falling(c: &mut Criterion) {
 
 /// The 1000-ragdoll rain at its scene's method (4 substeps of 2 iterations, SIMD, contact
 /// stacking): one step at 1 s (landing: the first layer meets the geometry) and at 9 s
-/// (settled), per spine, on the
-/// machine's threads. Issue 9's target: 60 steps/s at 2 cores; issue 10's: detection at most 3
-/// us per ragdoll. The table after the group gives each case's median step, its steps/s and
-/// its detection per ragdoll, from 15 steps timed by the step profile.
+/// (settled), per spine, on the machine's threads. Issue 9's target: 60 steps/s at 2 cores;
+/// issue 10's: detection at most 3 us per ragdoll. The table after the group gives each case's
+/// median step, its steps/s and its detection per ragdoll, from 15 steps timed by the step
+/// profile.
 fn rain_step(c: &mut Criterion) {
-    let scene = Scene::load(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/scenes/ragdoll_rain.toml"
-    ))
-    .unwrap();
     let cases = [
         "rod/landing",
         "rod/settled",
@@ -185,32 +178,18 @@ fn rain_step(c: &mut Criterion) {
     if !cases.iter().any(|case| wanted(case)) {
         return; // filtered out: skip the minute of settling
     }
-    let ragdolls = 1000.0;
     let mut group = c.benchmark_group("ragdoll_rain_step");
     group.sample_size(10);
     let mut table = Vec::new();
     for spine in [SpineKind::Rod, SpineKind::Chain3] {
-        let mut variant = scene.clone();
-        Overrides {
-            spine: Some(spine),
-            ..Default::default()
-        }
-        .apply(&mut variant.def);
-        let mut lab = variant.build().unwrap();
-        sim::run(&mut lab, 60, &mut NoObserver).unwrap();
-        let landing = lab.world.clone();
-        sim::run(&mut lab, 480, &mut NoObserver).unwrap();
-        for (phase, world) in [("landing", landing), ("settled", lab.world)] {
-            if !wanted(&format!("{spine}/{phase}")) {
+        let labs = labs_at("ragdoll_rain.toml", None, spine, &[60, 480]);
+        for (phase, lab) in ["landing", "settled"].into_iter().zip(&labs) {
+            let world = &lab.world;
+            let case = format!("{spine}/{phase}");
+            if !wanted(&case) {
                 continue;
             }
-            group.bench_function(format!("{spine}/{phase}"), |b| {
-                b.iter_batched_ref(
-                    || world.clone(),
-                    |w| w.step().unwrap(),
-                    BatchSize::LargeInput,
-                )
-            });
+            bench_step(&mut group, case.clone(), world);
             // the step's own profile over 15 steps from the same state: median step and detect
             let (mut steps, mut detects): (Vec<f64>, Vec<f64>) = (0..15)
                 .map(|_| {
@@ -221,16 +200,16 @@ fn rain_step(c: &mut Criterion) {
                 .unzip();
             steps.sort_by(f64::total_cmp);
             detects.sort_by(f64::total_cmp);
-            table.push((format!("{spine}/{phase}"), steps[7], detects[7]));
+            table.push((case, steps[7], detects[7], lab.ragdolls.len() as f64));
         }
     }
     group.finish();
     println!(
-        "\n1000-ragdoll rain, one step (median of 15), {} thread(s):",
+        "\nthe rain, one step (median of 15), {} thread(s):",
         rayon::current_num_threads()
     );
     println!("case               step ms   steps/s   detect ms   detect us per ragdoll");
-    for (case, step, detect) in table {
+    for (case, step, detect, ragdolls) in table {
         println!(
             "{case:<18} {:>7.2}   {:>7.1}   {:>9.2}   {:>9.2}",
             1e3 * step,

@@ -13,7 +13,7 @@
 //! scalar solver's bits differ from these, as they would anyway between two such machines;
 //! `tests` compare these lanes with the library on millions of inputs.
 
-use super::{Lane, Q};
+use super::{not, Lane, Q};
 use crate::math::wrap_angle;
 
 /// glam's `Quat * Quat` (`mul_quat` of its SSE2 build) per lane: each component the sum of two
@@ -119,7 +119,7 @@ pub fn atan2<L: Lane>(y: L, x: L) -> L {
     let right = negative_y.select(-z, z);
     let left = negative_y.select((z - s(PI_LO)) - s(PI), s(PI) - (z - s(PI_LO)));
     let result = negative_x.select(left, right);
-    if (0..L::W).all(|i| plain.at(i).to_bits() != 0) {
+    if !not(plain).any() {
         return result;
     }
     L::from_fn(|i| match plain.at(i).to_bits() != 0 {
@@ -146,7 +146,7 @@ pub fn start_twist<L: Lane>(frame_a: Q<L>, frame_b: Q<L>) -> L {
         .gt(pi)
         .select(angle - tau, angle.lt(-pi).select(angle + tau, angle));
     let within = angle.abs().lt(tau);
-    if (0..L::W).all(|i| within.at(i).to_bits() != 0) {
+    if !not(within).any() {
         return wrapped;
     }
     L::from_fn(|i| match within.at(i).to_bits() != 0 {
