@@ -12,9 +12,11 @@ use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Sub};
 
 mod body;
 pub mod exact;
+mod transpose;
 mod vector;
 
 pub use body::{relative_rotation, BodyLanes};
+pub use transpose::Transpose4;
 pub use vector::{SymM3, Q, V3};
 
 /// The widest lane type's width (`wide::f32x16`); arrays of per-lane data are this long.
@@ -56,65 +58,6 @@ pub fn body_indices<L: Lane, T>(
         debug_assert_ne!(a[i], b[i], "a constraint needs two distinct bodies");
     }
     (a, b)
-}
-
-/// Groups of four floats of `W` records turned into four lanes, and back: the transpose that
-/// gathers bodies into lanes (one SSE shuffle network for W = 4).
-pub trait Transpose4: Sized {
-    /// `out[j]` lane i = `rows[i][j]`, for the first `W` rows.
-    fn transpose4(rows: [&[f32; 4]; MAX_LANES]) -> [Self; 4];
-    /// `rows[i][j]` = lane i of `cols[j]`.
-    fn untranspose4(cols: [Self; 4]) -> [[f32; 4]; MAX_LANES];
-}
-
-impl Transpose4 for wide::f32x4 {
-    #[inline(always)]
-    fn transpose4(rows: [&[f32; 4]; MAX_LANES]) -> [Self; 4] {
-        wide::f32x4::transpose([
-            wide::f32x4::new(*rows[0]),
-            wide::f32x4::new(*rows[1]),
-            wide::f32x4::new(*rows[2]),
-            wide::f32x4::new(*rows[3]),
-        ])
-    }
-    #[inline(always)]
-    fn untranspose4(cols: [Self; 4]) -> [[f32; 4]; MAX_LANES] {
-        let t = wide::f32x4::transpose(cols);
-        let mut out = [[0.0; 4]; MAX_LANES];
-        for (o, v) in out.iter_mut().zip(t) {
-            *o = v.to_array();
-        }
-        out
-    }
-}
-
-impl Transpose4 for wide::f32x8 {
-    #[inline(always)]
-    fn transpose4(rows: [&[f32; 4]; MAX_LANES]) -> [Self; 4] {
-        let low: [wide::f32x4; 4] = Transpose4::transpose4(rows);
-        let high: [wide::f32x4; 4] =
-            Transpose4::transpose4(std::array::from_fn(|i| rows[(i + 4) % MAX_LANES]));
-        std::array::from_fn(|j| {
-            let (l, h) = (low[j].to_array(), high[j].to_array());
-            wide::f32x8::new([l[0], l[1], l[2], l[3], h[0], h[1], h[2], h[3]])
-        })
-    }
-    #[inline(always)]
-    fn untranspose4(cols: [Self; 4]) -> [[f32; 4]; MAX_LANES] {
-        // each half of the eight lanes through the 4-wide shuffle network
-        let cols = cols.map(|c| c.to_array());
-        let half = |h: usize| -> [wide::f32x4; 4] {
-            std::array::from_fn(|j| {
-                let c = &cols[j];
-                wide::f32x4::new([c[4 * h], c[4 * h + 1], c[4 * h + 2], c[4 * h + 3]])
-            })
-        };
-        let (low, high) = (
-            <wide::f32x4 as Transpose4>::untranspose4(half(0)),
-            <wide::f32x4 as Transpose4>::untranspose4(half(1)),
-        );
-        std::array::from_fn(|i| if i < 4 { low[i] } else { high[i - 4] })
-    }
 }
 
 /// A float vector of `W` lanes. Comparisons return masks (all bits set per true lane).
@@ -266,33 +209,3 @@ impl_lane!(wide::f32x4, 4);
 impl_lane!(wide::f32x8, 8);
 impl_lane!(wide::f32x16, 16);
 
-impl Transpose4 for wide::f32x16 {
-    #[inline(always)]
-    fn transpose4(rows: [&[f32; 4]; MAX_LANES]) -> [Self; 4] {
-        let part = |k: usize| -> [wide::f32x4; 4] {
-            Transpose4::transpose4(std::array::from_fn(|i| rows[(i + 4 * k) % MAX_LANES]))
-        };
-        let parts = [part(0), part(1), part(2), part(3)];
-        std::array::from_fn(|j| {
-            let mut a = [0.0f32; 16];
-            for k in 0..4 {
-                a[4 * k..4 * k + 4].copy_from_slice(&parts[k][j].to_array());
-            }
-            wide::f32x16::new(a)
-        })
-    }
-    #[inline(always)]
-    fn untranspose4(cols: [Self; 4]) -> [[f32; 4]; MAX_LANES] {
-        let cols = cols.map(|c| c.to_array());
-        let mut out = [[0.0; 4]; MAX_LANES];
-        for k in 0..4 {
-            let quarter: [wide::f32x4; 4] = std::array::from_fn(|j| {
-                let c = &cols[j];
-                wide::f32x4::new([c[4 * k], c[4 * k + 1], c[4 * k + 2], c[4 * k + 3]])
-            });
-            let t = <wide::f32x4 as Transpose4>::untranspose4(quarter);
-            out[4 * k..4 * k + 4].copy_from_slice(&t[..4]);
-        }
-        out
-    }
-}
