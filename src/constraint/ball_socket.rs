@@ -9,7 +9,8 @@
 //! - `Cheap`: one scalar row along the current error direction `n = C / |C|`, weight
 //!   `w = sum_i 1/m_i + (r_i x n) . I_i^-1 (r_i x n)`; the three rows' coupling is ignored, so a
 //!   chain converges slowly (the paper's §8 kind).
-//! - `Exact`: the 3x3 block `P = K^-1 C`.
+//! - `Exact`: the 3x3 block `P = K^-1 C`; a hinge limit's two rows also as one block
+//!   ([`super::limits`]).
 //!
 //! Soft spring toward the rest relative orientation `q_rest = q_a^-1 q_b` taken at creation
 //! (§6: instantiated at the transition pose): each iteration removes the fraction `relaxation`
@@ -39,7 +40,7 @@ pub enum JointFlavour {
     /// One scalar row along the current error direction; ignores the rows' coupling, so chains
     /// converge slowly (§8).
     Cheap,
-    /// The full 3x3 block `P = K^-1 C`.
+    /// The full 3x3 block `P = K^-1 C`, and a hinge's axes aligned as one 2x2 block.
     #[default]
     Exact,
 }
@@ -231,7 +232,15 @@ impl JointRow {
             relative_rotation(a, b, spring.relaxation * error);
         }
         if let Some(limit) = self.limit {
-            limit.solve(a, b, self.frame_a, self.frame_b, self.start_twist);
+            let hinge_block = self.flavour == JointFlavour::Exact;
+            limit.solve(
+                a,
+                b,
+                self.frame_a,
+                self.frame_b,
+                self.start_twist,
+                hinge_block,
+            );
         }
         let ra = a.orientation * self.anchor_a;
         let rb = b.orientation * self.anchor_b;

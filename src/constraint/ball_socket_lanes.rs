@@ -14,10 +14,12 @@
 //! (exact), `|det K| < 1e-20`, `w <= 0`, rotation angle `< 1e-9`, and a swing axis that does
 //! not normalise (glam's `try_normalize`) falls back to glam's `any_orthonormal_vector`.
 
+use super::limits::HINGE_BLOCK_MAX_SWING;
 use super::{JointFlavour, JointRow};
 use crate::body::Body;
 use crate::lanes::{
-    body_indices, exact, not, padded, relative_rotation, BodyLanes, Lane, SymM3, MAX_LANES, Q, V3,
+    body_indices, exact, not, padded, relative_rotation, relative_rotation_across, BodyLanes, Lane,
+    SymM3, MAX_LANES, Q, V3,
 };
 use crate::math::Quat;
 use crate::solver_body::SharedBodies;
@@ -47,6 +49,9 @@ struct LimitLanes<L> {
     start_twist: L,
     frame_a: Q<L>,
     frame_b: Q<L>,
+    /// The lanes whose hinge aligns its axes by the 2x2 block (exact flavour, `swing_max = 0`),
+    /// when the batch has any.
+    hinge_block: Option<L>,
 }
 
 /// `L::W` joint rows of one colour in lanes, packed once a frame, with the limits' starting
@@ -106,6 +111,10 @@ impl<L: Lane> JointLanes<L> {
                 }),
                 frame_a: Q::from_fn(|i| row(i).frame_a),
                 frame_b: Q::from_fn(|i| row(i).frame_b),
+                hinge_block: rows
+                    .iter()
+                    .any(hinge_block)
+                    .then(|| L::from_fn(|i| hinge_block(row(i)) as u32 as f32).gt(L::zero())),
             }
         });
         let any_cheap = rows.iter().any(|r| r.flavour == JointFlavour::Cheap);
@@ -207,7 +216,19 @@ impl<L: Lane> JointLanes<L> {
                 // glam's try_normalize fails where 1 / |v| is not finite.
                 let (axis, _) = cross.normalize_or(ax.any_orthonormal(), 1.0 / f32::MAX);
                 let amount = over.select(-(swing - limit.swing_max), L::zero());
-                relative_rotation(a, b, movable_a, movable_b, axis.scale(amount));
+                let rotation = axis.scale(amount);
+                match limit.hinge_block {
+                    None => relative_rotation(a, b, movable_a, movable_b, rotation),
+                    Some(block) => {
+                        let block = block & swing.lt(L::splat(HINGE_BLOCK_MAX_SWING));
+                        let row = not(block);
+                        if (over & row).any() {
+                            relative_rotation(a, b, movable_a & row, movable_b & row, rotation);
+                        }
+                        let (block_a, block_b) = (movable_a & block, movable_b & block);
+                        relative_rotation_across(a, b, block_a, block_b, rotation, ax);
+                    }
+                }
                 fa = a.orientation.mul(frame_a);
                 fb = b.orientation.mul(frame_b);
             }
@@ -246,6 +267,14 @@ impl<L: Lane> JointLanes<L> {
         apply_positional(a, impulse, ra, active & movable_a);
         apply_positional(b, -impulse, rb, active & movable_b);
     }
+}
+
+/// Whether the row's hinge aligns its axes by the 2x2 block ([`AngularLimit::solve`]'s
+/// `hinge_block`: the exact flavour's hinges).
+///
+/// [`AngularLimit::solve`]: super::limits::AngularLimit::solve
+fn hinge_block(row: &JointRow) -> bool {
+    row.flavour == JointFlavour::Exact && row.limit.is_some_and(|l| l.swing_max == 0.0)
 }
 
 /// Mask of lanes whose body moves (the scalar `inverse_mass == 0` early return).

@@ -12,11 +12,20 @@
 //!   two bounds every step (an arm spinning at 130 rad/s in the drop, before this).
 //!
 //! A hinge (knee, elbow) is the same limit with `swing_max = 0`: the two x axes are held aligned
-//! and the twist angle is the hinge angle.
+//! and the twist angle is the hinge angle. Aligning the axes is two rows (the error's two
+//! components across a's axis); the exact flavour solves them as one 2x2 block, the cheap one as
+//! one row along the error, which a limb's anisotropic inertia turns into a twist back and forth
+//! every substep ([`super::parts::relative_rotation_across`]).
 
-use super::parts::relative_rotation;
+use super::parts::{relative_rotation, relative_rotation_across};
 use crate::math::{angle_between, any_perpendicular, twist_angle, wrap_angle, Quat, Vec3};
 use crate::solver_body::SolverBody;
+
+/// A hinge's axes apart by more than this (rad) are aligned by one row along the error even in
+/// the exact flavour: the block is the linearisation about aligned axes, and far from it (a
+/// hinge folded back on itself) the free turn it adds about the axis can carry the twist across
+/// +-pi, where rounding decides which bound it is clamped to.
+pub const HINGE_BLOCK_MAX_SWING: f32 = 1.0;
 
 /// An angular limit on a joint's frames: a swing cone about the x axis and a twist range.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -77,7 +86,10 @@ impl AngularLimit {
     }
 
     /// Projects the preview orientations onto the limit (hard, relaxation 1). `start_twist` is
-    /// [`AngularLimit::start_twist`] at the substep's start poses.
+    /// [`AngularLimit::start_twist`] at the substep's start poses. With `hinge_block` a hinge's
+    /// two axes are aligned by the 2x2 block across a's axis
+    /// ([`super::parts::relative_rotation_across`], the exact flavour's), else by one row along
+    /// the error (the cheap flavour's, and every cone's: a cone past its edge is one row).
     #[inline]
     pub fn solve(
         &self,
@@ -86,6 +98,7 @@ impl AngularLimit {
         local_frame_a: Quat,
         local_frame_b: Quat,
         start_twist: f32,
+        hinge_block: bool,
     ) {
         let ax = a.orientation * local_frame_a * Vec3::X;
         let bx = b.orientation * local_frame_b * Vec3::X;
@@ -95,7 +108,11 @@ impl AngularLimit {
                 .cross(bx)
                 .try_normalize()
                 .unwrap_or_else(|| any_perpendicular(ax));
-            relative_rotation(a, b, -(swing - self.swing_max) * axis);
+            if hinge_block && self.swing_max == 0.0 && swing < HINGE_BLOCK_MAX_SWING {
+                relative_rotation_across(a, b, -swing * axis, ax);
+            } else {
+                relative_rotation(a, b, -(swing - self.swing_max) * axis);
+            }
         }
         let frame_a = a.orientation * local_frame_a;
         let frame_b = b.orientation * local_frame_b;

@@ -187,3 +187,31 @@ pub fn relative_rotation<L: Lane>(
     a.turn_where(active & mask_a, -l);
     b.turn_where(active & mask_b, l);
 }
+
+/// [`crate::constraint::parts::relative_rotation_across`] per lane: turns b by `rotation_b`
+/// (across the unit `axis`) relative to a by the 2x2 block across `axis`; a on the lanes of
+/// `mask_a`, b on those of `mask_b`. Lanes with no error or a singular block are left alone.
+#[inline(always)]
+pub fn relative_rotation_across<L: Lane>(
+    a: &mut BodyLanes<L>,
+    b: &mut BodyLanes<L>,
+    mask_a: L,
+    mask_b: L,
+    rotation_b: V3<L>,
+    axis: V3<L>,
+) {
+    let u = axis.any_orthonormal();
+    let v = axis.cross(u);
+    let (eu, ev) = (rotation_b.dot(u), rotation_b.dot(v));
+    let big = not((eu * eu + ev * ev).lt(L::splat(1e-18)));
+    let wu = a.inverse_inertia.mul_vec(u) + b.inverse_inertia.mul_vec(u);
+    let wv = a.inverse_inertia.mul_vec(v) + b.inverse_inertia.mul_vec(v);
+    let (kuu, kuv, kvv) = (u.dot(wu), u.dot(wv), v.dot(wv));
+    let det = kuu * kvv - kuv * kuv;
+    let positive = det.gt(L::splat(1e-20));
+    let active = big & positive;
+    let det = positive.select(det, L::splat(1.0));
+    let l = u.scale((kvv * eu - kuv * ev) / det) + v.scale((kuu * ev - kuv * eu) / det);
+    a.turn_where(active & mask_a, -l);
+    b.turn_where(active & mask_b, l);
+}

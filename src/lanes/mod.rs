@@ -15,7 +15,7 @@ pub mod exact;
 mod transpose;
 mod vector;
 
-pub use body::{relative_rotation, BodyLanes};
+pub use body::{relative_rotation, relative_rotation_across, BodyLanes};
 pub use transpose::Transpose4;
 pub use vector::{SymM3, Q, V3};
 
@@ -208,4 +208,3 @@ macro_rules! impl_lane {
 impl_lane!(wide::f32x4, 4);
 impl_lane!(wide::f32x8, 8);
 impl_lane!(wide::f32x16, 16);
-

@@ -235,13 +235,21 @@ mod tests {
         for (j, column) in columns.iter().enumerate() {
             let got = lanes(*column);
             for i in 0..width {
-                assert_eq!(got[i].to_bits(), records[i][j].to_bits(), "record {i} field {j}");
+                assert_eq!(
+                    got[i].to_bits(),
+                    records[i][j].to_bits(),
+                    "record {i} field {j}"
+                );
             }
         }
         let back = L::untranspose4(columns);
         for i in 0..width {
             let same = (0..4).all(|j| back[i][j].to_bits() == records[i][j].to_bits());
-            assert!(same, "record {i} back: {:?} against {:?}", back[i], records[i]);
+            assert!(
+                same,
+                "record {i} back: {:?} against {:?}",
+                back[i], records[i]
+            );
         }
     }
 

@@ -8,6 +8,7 @@ mod conservation;
 mod contact_gaps;
 mod contacts;
 mod controllability;
+mod hinge;
 mod humanoid;
 mod kinematics;
 mod lanes_contact;
