@@ -143,16 +143,19 @@ pub fn solve_rod_lanes<L: Lane>(row: &RodLanes<L>, a: &mut BodyLanes<L>, b: &mut
     // Hard curve (eq. 6), full gradient.
     let (ta, tb) = tangents(row, a, b);
     let curve = curve_projection(a.position, ta, b.position, tb);
+    // I^-1 theta once per body, for the effective mass and the turn
+    let turn_a = a.inverse_inertia.mul_vec(curve.theta_a);
+    let turn_b = b.inverse_inertia.mul_vec(curve.theta_b);
     let w = (a.inverse_mass + b.inverse_mass) * curve.g_o.length_squared()
-        + a.angular_inverse_mass(curve.theta_a)
-        + b.angular_inverse_mass(curve.theta_b);
+        + curve.theta_a.dot(turn_a)
+        + curve.theta_b.dot(turn_b);
     let active = curve.error.gt(L::splat(1e-7)) & w.gt(zero);
     let lambda = active.select(-curve.error / w.max(L::splat(f32::MIN_POSITIVE)), zero);
     // p_a = -g_o, p_b = g_o
     move_by(a, active, curve.g_o.scale(-lambda));
     move_by(b, active, curve.g_o.scale(lambda));
-    a.turn_where(movable_a & active, curve.theta_a.scale(lambda));
-    b.turn_where(movable_b & active, curve.theta_b.scale(lambda));
+    a.rotate_preview_where(movable_a & active, turn_a.scale(lambda));
+    b.rotate_preview_where(movable_b & active, turn_b.scale(lambda));
 
     // Hard length (eq. 9), linear motion along o^ at fixed psi.
     let (ta, tb) = tangents(row, a, b);

@@ -159,7 +159,8 @@ impl<L: Lane> ContactLanes<L> {
         let point_a = a.position + a.orientation.rotate(self.local_a);
         let point_b = b.position + b.orientation.rotate(self.local_b);
         let separation = (point_b - point_a).dot(n) + self.allowed_penetration;
-        let w = sa * a.positional_inverse_mass(ra, n) + sb * b.positional_inverse_mass(rb, n);
+        let ((turn_a, wa), (turn_b, wb)) = (a.response(ra, n), b.response(rb, n));
+        let w = sa * wa + sb * wb;
         let active = w.gt(zero) & (separation.lt(zero) | normal_impulse.gt(zero));
         let (error, denominator) = if self.soft {
             let soft = self.compliance * w;
@@ -177,8 +178,8 @@ impl<L: Lane> ContactLanes<L> {
         let lambda = total - normal_impulse;
         let normal_impulse = total;
         self.normal_impulse = normal_impulse;
-        a.apply_positional_impulse(n.scale(-(lambda * sa)), ra);
-        b.apply_positional_impulse(n.scale(lambda * sb), rb);
+        a.push_along(n, turn_a, -(lambda * sa));
+        b.push_along(n, turn_b, lambda * sb);
 
         // 2. friction, where the point pushes
         let pushing = normal_impulse.gt(zero);
@@ -191,7 +192,8 @@ impl<L: Lane> ContactLanes<L> {
             let moving = length.gt(L::splat(1e-9));
             let t =
                 tangential.scale(moving.select(L::splat(1.0) / length.max(L::splat(1e-9)), zero));
-            let w = sa * a.positional_inverse_mass(ra, t) + sb * b.positional_inverse_mass(rb, t);
+            let ((turn_a, wa), (turn_b, wb)) = (a.response(ra, t), b.response(rb, t));
+            let w = sa * wa + sb * wb;
             let active = pushing & moving & w.gt(zero);
             let needed = length / w.max(L::splat(f32::MIN_POSITIVE));
             // `<=` as in the scalar code
@@ -202,8 +204,8 @@ impl<L: Lane> ContactLanes<L> {
                 .min(needed);
             let applied = active.select(within.select(needed, sliding), zero);
             self.sticking = self.sticking & not(active & limit.lt(friction_impulse + needed));
-            a.apply_positional_impulse(t.scale(applied * sa), ra);
-            b.apply_positional_impulse(t.scale(-(applied * sb)), rb);
+            a.push_along(t, turn_a, applied * sa);
+            b.push_along(t, turn_b, -(applied * sb));
             self.friction_impulse = friction_impulse + applied.max(zero);
         }
 

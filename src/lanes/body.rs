@@ -120,6 +120,24 @@ impl<L: Lane> BodyLanes<L> {
         self.rotate_preview(dtheta);
     }
 
+    /// The turn per unit positional impulse along `n` at offset `r`, `I^-1 (r x n)`, and the
+    /// inverse effective mass `1/m + (r x n) . I^-1 (r x n)`: computed once, a point's effective
+    /// mass and its turn share it ([`BodyLanes::push_along`]).
+    #[inline(always)]
+    pub fn response(&self, r: V3<L>, n: V3<L>) -> (V3<L>, L) {
+        let rn = r.cross(n);
+        let turn = self.inverse_inertia.mul_vec(rn);
+        (turn, self.inverse_mass + rn.dot(turn))
+    }
+
+    /// A positional impulse `amount n` at the offset whose [`BodyLanes::response`] along `n` is
+    /// `turn`: `apply_positional_impulse(amount n, r)` with the turn reused.
+    #[inline(always)]
+    pub fn push_along(&mut self, n: V3<L>, turn: V3<L>, amount: L) {
+        self.position = self.position + n.scale(amount * self.inverse_mass);
+        self.rotate_preview(turn.scale(amount));
+    }
+
     /// `SolverBody::apply_linear_impulse` per lane.
     #[inline(always)]
     pub fn apply_linear_impulse(&mut self, impulse: V3<L>) {
@@ -180,12 +198,17 @@ pub fn relative_rotation<L: Lane>(
 ) {
     let angle_squared = rotation_b.length_squared();
     let big = not(angle_squared.lt(L::splat(1e-18)));
-    let w = a.angular_inverse_mass(rotation_b) + b.angular_inverse_mass(rotation_b);
+    // I^-1 v once per body, for the effective mass and the turn: the turn is (I^-1 v) s
+    let (turn_a, turn_b) = (
+        a.inverse_inertia.mul_vec(rotation_b),
+        b.inverse_inertia.mul_vec(rotation_b),
+    );
+    let w = rotation_b.dot(turn_a) + rotation_b.dot(turn_b);
     let positive = w.gt(L::zero());
     let active = big & positive;
-    let l = rotation_b.scale(angle_squared / positive.select(w, L::splat(1.0)));
-    a.turn_where(active & mask_a, -l);
-    b.turn_where(active & mask_b, l);
+    let s = angle_squared / positive.select(w, L::splat(1.0));
+    a.rotate_preview_where(active & mask_a, -turn_a.scale(s));
+    b.rotate_preview_where(active & mask_b, turn_b.scale(s));
 }
 
 /// [`crate::constraint::parts::relative_rotation_across`] per lane: turns b by `rotation_b`
