@@ -80,6 +80,7 @@ fn untranspose_blocks<const N: usize>(cols: [[f32; N]; 4], blocks: usize) -> [[f
 
 /// The 4 x 4 transpose within each 128-bit block of four registers (its own inverse), for one
 /// register width: `unpack*_ps` pairs the rows' floats, `unpack*_pd` their pairs.
+#[cfg(all(target_arch = "x86_64", target_feature = "avx"))]
 macro_rules! block_network {
     ($name:ident, $reg:ty, $lo_ps:ident, $hi_ps:ident, $lo_pd:ident, $hi_pd:ident, $ps_pd:ident, $pd_ps:ident) => {
         #[inline(always)]
