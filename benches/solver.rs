@@ -10,7 +10,9 @@ use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughpu
 use rodlab::body::{Body, BodyId, BodyKind};
 use rodlab::constraint::ball_socket_lanes::JointLanes;
 use rodlab::constraint::rod_lanes::RodLanes;
-use rodlab::constraint::{AngularLimit, BallSocket, JointFlavour, JointRow, Rod, RodRow};
+use rodlab::constraint::{
+    AngularLimit, BallSocket, BendTwist, JointFlavour, JointRow, Rod, RodRow,
+};
 use rodlab::contact::lanes::ContactLanes;
 use rodlab::contact::{ContactPoint, Contacts, Softness, Stacking};
 use rodlab::lanes::Lane;
@@ -73,7 +75,7 @@ fn dislocated_joints(flavour: JointFlavour, limits: bool) -> (Vec<SolverBody>, V
 
 /// `COUNT` independent pelvis-chest pairs joined by rods, each bent, twisted and stretched off
 /// its rest state.
-fn perturbed_rods() -> (Vec<SolverBody>, Vec<RodRow>) {
+fn perturbed_rods(bend_twist: BendTwist) -> (Vec<SolverBody>, Vec<RodRow>) {
     let mut bodies = Vec::new();
     let mut rows = Vec::new();
     for i in 0..COUNT {
@@ -89,6 +91,7 @@ fn perturbed_rods() -> (Vec<SolverBody>, Vec<RodRow>) {
         let mut rod = Rod::instantiate(format!("r{i}"), &bodies, ids.0, ids.1, Vec3::Z).unwrap();
         rod.params.alpha_bend = 0.1;
         rod.params.alpha_twist = 0.5;
+        rod.params.bend_twist = bend_twist;
         rows.push(rod.prepare());
         let wobble = (x * 1.7).sin();
         let chest = &mut bodies[2 * i + 1];
@@ -257,7 +260,7 @@ enum Batch {
 #[derive(Clone, Copy)]
 enum Case {
     Joint(JointFlavour, bool),
-    Rod,
+    Rod(BendTwist),
     Contact,
 }
 
@@ -270,8 +273,8 @@ impl Batch {
                 JointLanes::pack,
                 JointLanes::pack,
             )),
-            Case::Rod => Batch::Rods(Packed::new(
-                perturbed_rods(),
+            Case::Rod(bend_twist) => Batch::Rods(Packed::new(
+                perturbed_rods(bend_twist),
                 RodLanes::pack,
                 RodLanes::pack,
                 RodLanes::pack,
@@ -309,7 +312,8 @@ fn cases() -> Vec<(&'static str, Case)> {
         ("cheap", Case::Joint(JointFlavour::Cheap, false)),
         ("exact", Case::Joint(JointFlavour::Exact, false)),
         ("exact_with_limits", Case::Joint(JointFlavour::Exact, true)),
-        ("rod", Case::Rod),
+        ("rod", Case::Rod(BendTwist::Sequential)),
+        ("rod_block", Case::Rod(BendTwist::Block)),
         ("contact", Case::Contact),
     ]
 }
@@ -374,14 +378,16 @@ fn summary() {
         );
         table.push(row);
     }
-    let (cheap, rod) = (&table[0], &table[3]);
-    println!(
-        "rod/cheap: scalar {:.2}, simd4 {:.2}, simd8 {:.2}, simd16 {:.2} (paper §7: 60/20 = 3)",
-        rod[0] / cheap[0],
-        rod[1] / cheap[1],
-        rod[2] / cheap[2],
-        rod[3] / cheap[3]
-    );
+    let cheap = &table[0];
+    for (label, rod) in [("rod", &table[3]), ("rod_block", &table[4])] {
+        println!(
+            "{label}/cheap: scalar {:.2}, simd4 {:.2}, simd8 {:.2}, simd16 {:.2} (paper §7: 60/20 = 3)",
+            rod[0] / cheap[0],
+            rod[1] / cheap[1],
+            rod[2] / cheap[2],
+            rod[3] / cheap[3]
+        );
+    }
     let speedup: Vec<String> = (cases().iter().zip(&table))
         .map(|((label, _), t)| {
             let x = |i: usize| t[0] / t[i];

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand};
 
-use crate::constraint::{JointFlavour, TwistMode};
+use crate::constraint::{BendTwist, JointFlavour, TwistMode};
 use crate::ragdoll::SpineKind;
 use crate::scene::{RodOverrides, SoftnessOverride};
 use crate::sim::Overrides;
@@ -245,6 +245,10 @@ pub struct OverrideArgs {
     /// Rod twist measure: exact or paper.
     #[arg(long, value_parser = parse_choice::<TwistMode>)]
     pub twist: Option<TwistMode>,
+    /// Rod bend and twist: sequential (one after the other, the default) or block (one 2x2
+    /// block from the same frames).
+    #[arg(long, value_parser = parse_choice::<BendTwist>)]
+    pub bend_twist: Option<BendTwist>,
     /// Record every N-th frame (frames 0, N, 2N, ...): a smaller file of a long run.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     pub record_every: Option<u32>,
@@ -282,6 +286,7 @@ impl From<&OverrideArgs> for Overrides {
                     damping: a.twist_damping,
                 },
                 twist_measure: a.twist,
+                bend_twist: a.bend_twist,
             },
             name: None,
             record_every: a.record_every,

@@ -15,7 +15,9 @@ pub mod rod_lanes;
 pub use ball_socket::{AngularSpring, BallSocket, JointFlavour, JointRow};
 pub use damper::{DamperRow, JointDamping};
 pub use limits::AngularLimit;
-pub use rod::{LengthCorrection, Rod, RodParams, RodRow, RodState, Stiffness, TwistMode};
+pub use rod::{
+    BendTwist, LengthCorrection, Rod, RodParams, RodRow, RodState, Stiffness, TwistMode,
+};
 
 use crate::body::{Body, BodyId};
 use crate::solver_body::SolverBody;

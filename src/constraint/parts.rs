@@ -76,7 +76,20 @@ pub fn relative_rotation(a: &mut Body, b: &mut Body, rotation_b: Vec3) {
 pub fn relative_rotation_across(a: &mut Body, b: &mut Body, rotation_b: Vec3, axis: Vec3) {
     let u = crate::math::any_perpendicular(axis);
     let v = axis.cross(u);
-    let (eu, ev) = (rotation_b.dot(u), rotation_b.dot(v));
+    relative_rotation_block(a, b, (u, v), (rotation_b.dot(u), rotation_b.dot(v)));
+}
+
+/// Turns b relative to a by `e_u` about the unit `u` and `e_v` about the unit `v` (`u . v = 0`)
+/// at once: the 2x2 block `L = K^-1 e`, `K_ij = u_i . (I_a^-1 + I_b^-1) u_j`. Shared by a hinge's
+/// two rows ([`relative_rotation_across`]) and the rod's bend and twist
+/// ([`super::rod::BendTwist::Block`]).
+#[inline]
+pub fn relative_rotation_block(
+    a: &mut Body,
+    b: &mut Body,
+    (u, v): (Vec3, Vec3),
+    (eu, ev): (f32, f32),
+) {
     if eu * eu + ev * ev < 1e-18 {
         return;
     }
@@ -88,7 +101,7 @@ pub fn relative_rotation_across(a: &mut Body, b: &mut Body, rotation_b: Vec3, ax
     let (kuu, kuv, kvv) = (u.dot(wu), u.dot(wv), v.dot(wv));
     let det = kuu * kvv - kuv * kuv;
     if !(det > 1e-20) {
-        return; // both immovable across the axis
+        return; // both immovable about u and v
     }
     let l = ((kvv * eu - kuv * ev) / det) * u + ((kuu * ev - kuv * eu) / det) * v;
     a.apply_angular_impulse(-l);

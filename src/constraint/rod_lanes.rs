@@ -32,8 +32,11 @@
 //!
 //! [`SolverBody::apply_angular_impulse`]: crate::solver_body::SolverBody::apply_angular_impulse
 
-use super::rod::{LengthCorrection, RodRow, TwistMode};
-use crate::lanes::{body_indices, padded, relative_rotation, BodyLanes, Lane, MAX_LANES, Q, V3};
+use super::rod::{BendTwist, LengthCorrection, RodRow, TwistMode};
+use crate::lanes::{
+    body_indices, not, padded, relative_rotation, relative_rotation_block, BodyLanes, Lane,
+    MAX_LANES, Q, V3,
+};
 use crate::solver_body::SharedBodies;
 
 /// Whether the lane kernel covers this row: the default modes and the paper's alphas (a rod
@@ -76,6 +79,9 @@ pub struct RodLanes<L> {
     pub alpha_bend: L,
     /// Twisting relaxation alpha_t (eq. 12-13), per lane.
     pub alpha_twist: L,
+    /// The lanes whose rod projects bend and twist as one block ([`BendTwist::Block`]), when
+    /// the batch has any.
+    pub block: Option<L>,
 }
 
 impl<L: Lane> RodLanes<L> {
@@ -94,6 +100,13 @@ impl<L: Lane> RodLanes<L> {
             rest_length: L::from_fn(|i| row(i).rest_length),
             alpha_bend: L::from_fn(|i| row(i).alpha_bend),
             alpha_twist: L::from_fn(|i| row(i).alpha_twist),
+            block: rows
+                .iter()
+                .any(|r| r.bend_twist == BendTwist::Block)
+                .then(|| {
+                    let block = |i: usize| (row(i).bend_twist == BendTwist::Block) as u32 as f32;
+                    L::from_fn(block).gt(L::zero())
+                }),
         }
     }
 
@@ -119,26 +132,18 @@ pub fn solve_rod_lanes<L: Lane>(row: &RodLanes<L>, a: &mut BodyLanes<L>, b: &mut
     let movable_a = a.inverse_mass.gt(zero);
     let movable_b = b.inverse_mass.gt(zero);
 
-    // Soft bend (eq. 11): remove alpha_b of psi about t_a x t_b.
-    let (ta, tb) = tangents(row, a, b);
-    let (axis, sin) = ta
-        .cross(tb)
-        .normalize_or(ta.any_orthonormal(), TRY_NORMALIZE_EPS);
-    let psi = sin.atan2(ta.dot(tb));
-    let bend = row.alpha_bend.gt(zero) & psi.gt(L::splat(1e-7));
-    let bend_rotation = axis.scale(-row.alpha_bend * psi);
-    relative_rotation(a, b, movable_a & bend, movable_b & bend, bend_rotation);
-
-    // Soft twist (eq. 12-13): remove alpha_t of tau about t_b.
-    let (fa, fb) = (
-        a.orientation.mul(row.frame_a),
-        b.orientation.mul(row.frame_b),
-    );
-    let (ta, tb) = (fa.x_axis(), fb.x_axis());
-    let tau = twist_exact(fa, fb, ta, tb);
-    let twist = row.alpha_twist.gt(zero);
-    let twist_rotation = tb.scale(-row.alpha_twist * tau);
-    relative_rotation(a, b, movable_a & twist, movable_b & twist, twist_rotation);
+    // Bend and twist: as one block on the lanes whose rod asks for it and where both act, one
+    // after the other on the rest (every lane of a batch without block rods)
+    let sequential = row
+        .block
+        .map(|block| bend_and_twist_as_block(row, a, b, block));
+    let (seq_a, seq_b) = match sequential {
+        None => (movable_a, movable_b),
+        Some(lanes) => (movable_a & lanes, movable_b & lanes),
+    };
+    if sequential.is_none_or(|lanes| lanes.any()) {
+        bend_then_twist(row, a, b, seq_a, seq_b);
+    }
 
     // Hard curve (eq. 6), full gradient.
     let (ta, tb) = tangents(row, a, b);
@@ -168,6 +173,76 @@ pub fn solve_rod_lanes<L: Lane>(row: &RodLanes<L>, a: &mut BodyLanes<L>, b: &mut
     let lambda = active.select(c / w.max(L::splat(f32::MIN_POSITIVE)), zero);
     move_by(a, active, axis.scale(lambda));
     move_by(b, active, axis.scale(-lambda));
+}
+
+/// Soft bend (eq. 11), then soft twist (eq. 12-13) on the frames the bend left
+/// ([`BendTwist::Sequential`]), on the lanes of `seq_a` / `seq_b` (the movable bodies of the
+/// lanes that take this path).
+#[inline(always)]
+fn bend_then_twist<L: Lane>(
+    row: &RodLanes<L>,
+    a: &mut BodyLanes<L>,
+    b: &mut BodyLanes<L>,
+    seq_a: L,
+    seq_b: L,
+) {
+    let zero = L::zero();
+    // Soft bend (eq. 11): remove alpha_b of psi about t_a x t_b.
+    let (ta, tb) = tangents(row, a, b);
+    let (axis, sin) = ta
+        .cross(tb)
+        .normalize_or(ta.any_orthonormal(), TRY_NORMALIZE_EPS);
+    let psi = sin.atan2(ta.dot(tb));
+    let bend = row.alpha_bend.gt(zero) & psi.gt(L::splat(1e-7));
+    let bend_rotation = axis.scale(-row.alpha_bend * psi);
+    relative_rotation(a, b, seq_a & bend, seq_b & bend, bend_rotation);
+
+    // Soft twist (eq. 12-13): remove alpha_t of tau about t_b.
+    let (fa, fb) = (
+        a.orientation.mul(row.frame_a),
+        b.orientation.mul(row.frame_b),
+    );
+    let (ta, tb) = (fa.x_axis(), fb.x_axis());
+    let tau = twist_exact(fa, fb, ta, tb);
+    let twist = row.alpha_twist.gt(zero);
+    let twist_rotation = tb.scale(-row.alpha_twist * tau);
+    relative_rotation(a, b, seq_a & twist, seq_b & twist, twist_rotation);
+}
+
+/// [`BendTwist::Block`] on the lanes of `block` where both parts act (alphas above 0, psi
+/// above 1e-7): bend and twist from the same frames as one 2x2 block over `(t_a x t_b)^, t_b`.
+/// Returns the mask of the other lanes, which take [`bend_then_twist`].
+#[inline(always)]
+fn bend_and_twist_as_block<L: Lane>(
+    row: &RodLanes<L>,
+    a: &mut BodyLanes<L>,
+    b: &mut BodyLanes<L>,
+    block: L,
+) -> L {
+    let zero = L::zero();
+    let (fa, fb) = (
+        a.orientation.mul(row.frame_a),
+        b.orientation.mul(row.frame_b),
+    );
+    let (ta, tb) = (fa.x_axis(), fb.x_axis());
+    let (axis, sin) = ta
+        .cross(tb)
+        .normalize_or(ta.any_orthonormal(), TRY_NORMALIZE_EPS);
+    let psi = sin.atan2(ta.dot(tb));
+    let both = block & row.alpha_bend.gt(zero) & row.alpha_twist.gt(zero) & psi.gt(L::splat(1e-7));
+    if both.any() {
+        let tau = twist_exact(fa, fb, ta, tb);
+        let errors = (-row.alpha_bend * psi, -row.alpha_twist * tau);
+        let masks = (movable(a) & both, movable(b) & both);
+        relative_rotation_block(a, b, masks, (axis, tb), errors);
+    }
+    not(both)
+}
+
+/// Lanes whose body moves (a body of zero inverse mass is not turned).
+#[inline(always)]
+fn movable<L: Lane>(body: &BodyLanes<L>) -> L {
+    body.inverse_mass.gt(L::zero())
 }
 
 /// Lengths at or below this fail glam's `try_normalize` (its reciprocal is not finite).
@@ -229,14 +304,6 @@ pub fn rotation_arc<L: Lane>(from: V3<L>, to: V3<L>) -> Q<L> {
         z: c.z * inv,
         w: w * inv,
     };
-    // from_axis_angle(any_orthonormal(from), pi): sin(pi/2) = 1, cos(pi/2) in f32
-    let perpendicular = from.any_orthonormal();
-    let half_turn = Q {
-        x: perpendicular.x,
-        y: perpendicular.y,
-        z: perpendicular.z,
-        w: L::splat((0.5 * std::f32::consts::PI).cos()),
-    };
     let identity = Q {
         x: L::zero(),
         y: L::zero(),
@@ -245,7 +312,22 @@ pub fn rotation_arc<L: Lane>(from: V3<L>, to: V3<L>) -> Q<L> {
     };
     let opposite = dot.lt(L::splat(-ONE_MINUS_EPS));
     let same = dot.gt(L::splat(ONE_MINUS_EPS));
-    Q::select(same, identity, Q::select(opposite, half_turn, general))
+    // a rod folded back on itself is rare: its half turn only when a lane has one
+    let general = match opposite.any() {
+        true => {
+            // from_axis_angle(any_orthonormal(from), pi): sin(pi/2) = 1, cos(pi/2) in f32
+            let perpendicular = from.any_orthonormal();
+            let half_turn = Q {
+                x: perpendicular.x,
+                y: perpendicular.y,
+                z: perpendicular.z,
+                w: L::splat((0.5 * std::f32::consts::PI).cos()),
+            };
+            Q::select(opposite, half_turn, general)
+        }
+        false => general,
+    };
+    Q::select(same, identity, general)
 }
 
 /// [`crate::math::wrap_angle`] for angles in [-2 pi, 2 pi] (what `2 atan2` gives).

@@ -213,7 +213,7 @@ pub fn relative_rotation<L: Lane>(
 
 /// [`crate::constraint::parts::relative_rotation_across`] per lane: turns b by `rotation_b`
 /// (across the unit `axis`) relative to a by the 2x2 block across `axis`; a on the lanes of
-/// `mask_a`, b on those of `mask_b`. Lanes with no error or a singular block are left alone.
+/// `mask_a`, b on those of `mask_b`.
 #[inline(always)]
 pub fn relative_rotation_across<L: Lane>(
     a: &mut BodyLanes<L>,
@@ -225,16 +225,36 @@ pub fn relative_rotation_across<L: Lane>(
 ) {
     let u = axis.any_orthonormal();
     let v = axis.cross(u);
-    let (eu, ev) = (rotation_b.dot(u), rotation_b.dot(v));
+    let errors = (rotation_b.dot(u), rotation_b.dot(v));
+    relative_rotation_block(a, b, (mask_a, mask_b), (u, v), errors);
+}
+
+/// [`crate::constraint::parts::relative_rotation_block`] per lane: turns b relative to a by
+/// `e_u` about `u` and `e_v` about `v` at once; a on the lanes of `mask_a`, b on those of
+/// `mask_b`. Lanes with no error or a singular block are left alone. The turn per body is
+/// `I^-1 L` from the products `I^-1 u`, `I^-1 v` the block is built of.
+#[inline(always)]
+pub fn relative_rotation_block<L: Lane>(
+    a: &mut BodyLanes<L>,
+    b: &mut BodyLanes<L>,
+    (mask_a, mask_b): (L, L),
+    (u, v): (V3<L>, V3<L>),
+    (eu, ev): (L, L),
+) {
     let big = not((eu * eu + ev * ev).lt(L::splat(1e-18)));
-    let wu = a.inverse_inertia.mul_vec(u) + b.inverse_inertia.mul_vec(u);
-    let wv = a.inverse_inertia.mul_vec(v) + b.inverse_inertia.mul_vec(v);
-    let (kuu, kuv, kvv) = (u.dot(wu), u.dot(wv), v.dot(wv));
+    let (au, av) = (a.inverse_inertia.mul_vec(u), a.inverse_inertia.mul_vec(v));
+    let (bu, bv) = (b.inverse_inertia.mul_vec(u), b.inverse_inertia.mul_vec(v));
+    let kuu = u.dot(au) + u.dot(bu);
+    let kuv = u.dot(av) + u.dot(bv);
+    let kvv = v.dot(av) + v.dot(bv);
     let det = kuu * kvv - kuv * kuv;
     let positive = det.gt(L::splat(1e-20));
     let active = big & positive;
-    let det = positive.select(det, L::splat(1.0));
-    let l = u.scale((kvv * eu - kuv * ev) / det) + v.scale((kuu * ev - kuv * eu) / det);
-    a.turn_where(active & mask_a, -l);
-    b.turn_where(active & mask_b, l);
+    let inverse_det = L::splat(1.0) / positive.select(det, L::splat(1.0));
+    let (lu, lv) = (
+        (kvv * eu - kuv * ev) * inverse_det,
+        (kuu * ev - kuv * eu) * inverse_det,
+    );
+    a.rotate_preview_where(active & mask_a, -(au.scale(lu) + av.scale(lv)));
+    b.rotate_preview_where(active & mask_b, bu.scale(lu) + bv.scale(lv));
 }

@@ -15,7 +15,7 @@ pub mod exact;
 mod transpose;
 mod vector;
 
-pub use body::{relative_rotation, relative_rotation_across, BodyLanes};
+pub use body::{relative_rotation, relative_rotation_across, relative_rotation_block, BodyLanes};
 pub use transpose::Transpose4;
 pub use vector::{SymM3, Q, V3};
 

@@ -63,6 +63,7 @@ impl Scene {
                 twist_stiffness: r.stiffness().twist(),
                 twist_mode: r.twist,
                 length_correction: r.length_correction,
+                bend_twist: r.bend_twist,
             };
             world.constraints.push(Constraint::Rod(rod));
         }
@@ -138,6 +139,7 @@ fn humanoid_spec(d: &SceneDef, r: &RagdollDef) -> HumanoidSpec {
                 twist_stiffness: r.stiffness().twist(),
                 twist_mode: r.twist.unwrap_or(default.twist_mode),
                 length_correction: r.rod_length.unwrap_or(default.length_correction),
+                bend_twist: r.bend_twist.unwrap_or(default.bend_twist),
             }
         },
     }

@@ -52,6 +52,7 @@ impl DropDef {
                     twist_damping: None,
                     twist: None,
                     rod_length: None,
+                    bend_twist: None,
                     forces: Default::default(),
                 }
             })

@@ -4,7 +4,7 @@
 use serde::Deserialize;
 
 use super::SceneDef;
-use crate::constraint::{JointFlavour, TwistMode};
+use crate::constraint::{BendTwist, JointFlavour, TwistMode};
 use crate::ragdoll::SpineKind;
 use crate::world::{ContactDetection, SolverKind};
 
@@ -75,6 +75,8 @@ pub struct RodOverrides {
     pub twist: SoftnessOverride,
     /// Twist measure (exact, or the paper's eq. 12).
     pub twist_measure: Option<TwistMode>,
+    /// Bend and twist one after the other, or as one block.
+    pub bend_twist: Option<BendTwist>,
 }
 
 /// One rod part's softness as the command line gives it: an alpha given replaces the file's
@@ -123,9 +125,11 @@ impl Overrides {
             bend,
             twist,
             twist_measure,
+            bend_twist,
         } = self.rod;
         for r in &mut def.ragdoll {
             r.twist = twist_measure.or(r.twist);
+            r.bend_twist = bend_twist.or(r.bend_twist);
             soften(
                 bend,
                 &mut r.alpha_b,
@@ -141,6 +145,7 @@ impl Overrides {
         }
         for r in &mut def.rod {
             r.twist = twist_measure.unwrap_or(r.twist);
+            r.bend_twist = bend_twist.unwrap_or(r.bend_twist);
             let (mut alpha_b, mut alpha_t) = (Some(r.alpha_b), Some(r.alpha_t));
             soften(
                 bend,

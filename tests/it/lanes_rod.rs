@@ -14,7 +14,7 @@
 use rodlab::body::{Body, BodyId, BodyKind};
 use rodlab::constraint::rod::{curve_error, length_error};
 use rodlab::constraint::rod_lanes::{solve_lanes, solve_scalar};
-use rodlab::constraint::{LengthCorrection, Rod, RodRow, TwistMode};
+use rodlab::constraint::{BendTwist, LengthCorrection, Rod, RodRow, TwistMode};
 use rodlab::math::{rotate_by_small, Quat, Vec3};
 use rodlab::shape::{Axis, Shape};
 use rodlab::solver::body::{SharedBodies, SolverBody};
@@ -189,7 +189,15 @@ fn max_difference(x: &[SolverBody], y: &[SolverBody]) -> (f32, f32, f32) {
 }
 
 fn agree(w: usize, copies: usize) {
-    let (start, rows) = rods(copies);
+    agree_with(w, copies, |_| BendTwist::Sequential);
+}
+
+/// [`agree`] with each rod's bend-twist projection chosen by its index.
+fn agree_with(w: usize, copies: usize, bend_twist: impl Fn(usize) -> BendTwist) {
+    let (start, mut rows) = rods(copies);
+    for (k, row) in rows.iter_mut().enumerate() {
+        row.bend_twist = bend_twist(k);
+    }
     let (mut scalar, mut lanes) = (start.clone(), start.clone());
     let (mut rows_s, mut rows_l) = (rows.clone(), rows.clone());
     scalar_pass(&mut scalar, &mut rows_s);
@@ -227,6 +235,19 @@ fn one_batch_of_four_agrees_with_scalar() {
 fn eight_lanes_agree_with_scalar() {
     agree(8, 1);
     agree(8, 3);
+}
+
+/// Bend and twist as one block ([`BendTwist::Block`]): every rod, and every other rod (batches
+/// mixing both projections), at 4, 8 and 16 lanes.
+#[test]
+fn the_bend_twist_block_in_lanes_agrees_with_scalar() {
+    for w in [4, 8, 16] {
+        agree_with(w, 3, |_| BendTwist::Block);
+        agree_with(w, 3, |k| match k % 2 {
+            0 => BendTwist::Block,
+            _ => BendTwist::Sequential,
+        });
+    }
 }
 
 fn errors(bodies: &[SolverBody], rows: &[RodRow]) -> (f32, f32) {

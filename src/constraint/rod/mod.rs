@@ -72,6 +72,24 @@ pub enum LengthCorrection {
     Gradient,
 }
 
+/// How the soft bend (eq. 11) and twist (eq. 12-13) are projected each iteration.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum BendTwist {
+    /// One after the other: bend about `(t_a x t_b)^`, then twist about `t_b` measured on the
+    /// frames the bend left (the reference).
+    #[default]
+    Sequential,
+    /// Both measured on the same frames and removed together as one 2x2 block over the
+    /// orthonormal pair `(t_a x t_b)^, t_b` (§7: "share some calculations common to each"):
+    /// to first order each iteration removes exactly `alpha_b` of psi and `alpha_t` of tau,
+    /// where one row after the other lets each turn leak into the other's axis through the
+    /// inertia. One frame product and one turn per body less than [`Self::Sequential`]. Where
+    /// only one part acts (an alpha of 0, a straight rod, a stiffness in physical units) it is
+    /// that part's row, as in [`Self::Sequential`].
+    Block,
+}
+
 /// How the twist angle tau is measured.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -130,6 +148,8 @@ pub struct RodParams {
     pub twist_mode: TwistMode,
     /// How the length constraint (eq. 9) is corrected; default the paper's offset correction.
     pub length_correction: LengthCorrection,
+    /// How bend and twist are projected; default one after the other.
+    pub bend_twist: BendTwist,
 }
 
 impl Default for RodParams {
@@ -141,6 +161,7 @@ impl Default for RodParams {
             twist_stiffness: None,
             twist_mode: TwistMode::Exact,
             length_correction: LengthCorrection::Offset,
+            bend_twist: BendTwist::Sequential,
         }
     }
 }
@@ -228,6 +249,7 @@ impl Rod {
             twist_compliant: self.params.twist_stiffness.map(Compliant::new),
             twist_mode: self.params.twist_mode,
             length_correction: self.params.length_correction,
+            bend_twist: self.params.bend_twist,
         }
     }
 

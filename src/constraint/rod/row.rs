@@ -3,11 +3,11 @@
 //! ([`Compliant`], XPBD) and their velocity damping.
 
 use super::{
-    chord_ratio_derivative, curve_projection, length_error, measure_twist, offset_axis,
+    chord_ratio_derivative, curve_projection, length_error, measure_twist, offset_axis, BendTwist,
     LengthCorrection, Stiffness, TwistMode,
 };
 use crate::body::Body;
-use crate::constraint::parts::relative_rotation;
+use crate::constraint::parts::{relative_rotation, relative_rotation_block};
 use crate::math::{angle_between, any_perpendicular, Mat3, Quat, Vec3};
 use crate::solver_body::pair_mut;
 use crate::solver_body::SolverBody;
@@ -37,6 +37,8 @@ pub struct RodRow {
     pub twist_mode: TwistMode,
     /// How the length constraint (eq. 9) is corrected.
     pub length_correction: LengthCorrection,
+    /// How bend and twist are projected.
+    pub bend_twist: BendTwist,
 }
 
 /// A compliant part (bend or twist) as the solver keeps it through one substep (XPBD).
@@ -123,6 +125,41 @@ impl RodRow {
     pub fn solve(&mut self, a: &mut SolverBody, b: &mut SolverBody) {
         let (fa, fb) = (a.orientation * self.frame_a, b.orientation * self.frame_b);
         let (ta, tb) = (fa * Vec3::X, fb * Vec3::X);
+        if !self.bend_and_twist_as_block(a, b, (fa, fb), (ta, tb)) {
+            self.bend_then_twist(a, b, (ta, tb));
+        }
+        self.curve_and_length(a, b);
+    }
+
+    /// [`BendTwist::Block`] where both parts act (alphas above 0, psi above 1e-7): both from
+    /// the frames `fa, fb` as one 2x2 block. Returns whether it did.
+    fn bend_and_twist_as_block(
+        &self,
+        a: &mut SolverBody,
+        b: &mut SolverBody,
+        (fa, fb): (Quat, Quat),
+        (ta, tb): (Vec3, Vec3),
+    ) -> bool {
+        let soft = self.bend_compliant.is_none() && self.twist_compliant.is_none();
+        if !(self.bend_twist == BendTwist::Block && soft) {
+            return false;
+        }
+        let psi = angle_between(ta, tb);
+        if !(self.alpha_bend > 0.0 && self.alpha_twist > 0.0 && psi > 1e-7) {
+            return false;
+        }
+        let axis = ta
+            .cross(tb)
+            .try_normalize()
+            .unwrap_or_else(|| any_perpendicular(ta));
+        let tau = measure_twist(self.twist_mode, fa, fb);
+        let errors = (-self.alpha_bend * psi, -self.alpha_twist * tau);
+        relative_rotation_block(a, b, (axis, tb), errors);
+        true
+    }
+
+    /// Bend, then twist measured on the frames the bend left ([`BendTwist::Sequential`]).
+    fn bend_then_twist(&mut self, a: &mut SolverBody, b: &mut SolverBody, (ta, tb): (Vec3, Vec3)) {
         if self.bend_compliant.is_some() || self.alpha_bend > 0.0 {
             let psi = angle_between(ta, tb);
             if psi > 1e-7 {
@@ -157,6 +194,10 @@ impl RodRow {
             let tau = measure_twist(self.twist_mode, fa, fb);
             relative_rotation(a, b, -self.alpha_twist * tau * (fb * Vec3::X));
         }
+    }
+
+    /// The hard curve (eq. 6) and length (eq. 9).
+    fn curve_and_length(&mut self, a: &mut SolverBody, b: &mut SolverBody) {
         // Hard curve (eq. 6), full gradient.
         let (fa, fb) = (a.orientation * self.frame_a, b.orientation * self.frame_b);
         let (ta, tb) = (fa * Vec3::X, fb * Vec3::X);

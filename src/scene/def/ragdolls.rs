@@ -3,7 +3,7 @@
 
 use serde::Deserialize;
 
-use crate::constraint::{JointFlavour, LengthCorrection, TwistMode};
+use crate::constraint::{BendTwist, JointFlavour, LengthCorrection, TwistMode};
 use crate::ragdoll::SpineKind;
 
 /// `count` ragdolls on a grid of `columns` x `rows` per layer, layers stacked up by
@@ -79,6 +79,8 @@ pub struct RagdollDef {
     pub twist: Option<TwistMode>,
     /// Rod spine: length correction, offset (the paper's) or gradient (workless).
     pub rod_length: Option<LengthCorrection>,
+    /// Rod spine: bend and twist projected one after the other (sequential) or as one block.
+    pub bend_twist: Option<BendTwist>,
     /// Constant external forces (N) on parts, e.g. `{ chest = [0.0, 0.0, 150.0] }`.
     #[serde(default)]
     pub forces: std::collections::BTreeMap<String, [f32; 3]>,

@@ -4,7 +4,7 @@
 use serde::Deserialize;
 
 use super::RagdollDef;
-use crate::constraint::{LengthCorrection, Stiffness, TwistMode};
+use crate::constraint::{BendTwist, LengthCorrection, Stiffness, TwistMode};
 
 /// A rod constraint (paper §5) between two named bodies, instantiated at their starting poses
 /// (§6): tangents along the offset between the centres.
@@ -39,6 +39,10 @@ pub struct RodDef {
     /// Length correction (eq. 9): `offset` (the paper's, the default) or `gradient`.
     #[serde(default)]
     pub length_correction: LengthCorrection,
+    /// Bend and twist projected one after the other (`sequential`, the default) or as one
+    /// 2x2 block (`block`).
+    #[serde(default)]
+    pub bend_twist: BendTwist,
     /// Direction the body normals point to (projected off the tangent).
     #[serde(default = "default_rod_normal")]
     pub normal: [f32; 3],
