@@ -225,13 +225,13 @@ fn bend_and_twist_as_block<L: Lane>(
         b.orientation.mul(row.frame_b),
     );
     let (ta, tb) = (fa.x_axis(), fb.x_axis());
-    let (axis, sin) = ta
-        .cross(tb)
-        .normalize_or(ta.any_orthonormal(), TRY_NORMALIZE_EPS);
-    let psi = sin.atan2(ta.dot(tb));
+    // the bend's cross and dot products are the twist transport's too
+    let (cross, dot) = (ta.cross(tb), ta.dot(tb));
+    let (axis, sin) = cross.normalize_or(ta.any_orthonormal(), TRY_NORMALIZE_EPS);
+    let psi = sin.atan2(dot);
     let both = block & row.alpha_bend.gt(zero) & row.alpha_twist.gt(zero) & psi.gt(L::splat(1e-7));
     if both.any() {
-        let tau = twist_exact(fa, fb, ta, tb);
+        let tau = twist_along(fa, fb, rotation_arc_given(ta, dot, cross));
         let errors = (-row.alpha_bend * psi, -row.alpha_twist * tau);
         let masks = (movable(a) & both, movable(b) & both);
         relative_rotation_block(a, b, masks, (axis, tb), errors);
@@ -282,7 +282,12 @@ pub fn chord_ratio<L: Lane>(psi: L, ta: V3<L>, tb: V3<L>) -> L {
 /// between `F(1)` and `F(0)` carried by `Quat::from_rotation_arc(t_a, t_b)`.
 #[inline(always)]
 pub fn twist_exact<L: Lane>(fa: Q<L>, fb: Q<L>, ta: V3<L>, tb: V3<L>) -> L {
-    let transport = rotation_arc(ta, tb);
+    twist_along(fa, fb, rotation_arc(ta, tb))
+}
+
+/// The signed turn about x between `F(1)` and `F(0)` carried by `transport`.
+#[inline(always)]
+fn twist_along<L: Lane>(fa: Q<L>, fb: Q<L>, transport: Q<L>) -> L {
     let q = transport.mul(fa).conjugate().mul(fb);
     wrap_angle(L::splat(2.0) * q.x.atan2(q.w))
 }
@@ -290,9 +295,13 @@ pub fn twist_exact<L: Lane>(fa: Q<L>, fb: Q<L>, ta: V3<L>, tb: V3<L>) -> L {
 /// glam's `Quat::from_rotation_arc` for unit `from`, `to`, its singular cases as selects.
 #[inline(always)]
 pub fn rotation_arc<L: Lane>(from: V3<L>, to: V3<L>) -> Q<L> {
+    rotation_arc_given(from, from.dot(to), from.cross(to))
+}
+
+/// [`rotation_arc`] from `from` and the given `from . to` and `from x to`.
+#[inline(always)]
+fn rotation_arc_given<L: Lane>(from: V3<L>, dot: L, c: V3<L>) -> Q<L> {
     const ONE_MINUS_EPS: f32 = 1.0 - 2.0 * f32::EPSILON;
-    let dot = from.dot(to);
-    let c = from.cross(to);
     let w = L::splat(1.0) + dot;
     let norm = (c.length_squared() + w * w)
         .sqrt()
