@@ -71,7 +71,7 @@ pub fn relative_rotation(a: &mut Body, b: &mut Body, rotation_b: Vec3) {
 /// `rotation_b` ([`relative_rotation`]) is exact only where the inertia is isotropic about it; a
 /// limb's axial inverse inertia is about 60 times its transverse one, so that row mostly spins
 /// the limb about its long axis, leaves a new error across the first, and the sweeps settle
-/// into a turn back and forth every substep (`tests/it/limits.rs`).
+/// into a turn back and forth every substep (`tests/it/hinge.rs`).
 #[inline]
 pub fn relative_rotation_across(a: &mut Body, b: &mut Body, rotation_b: Vec3, axis: Vec3) {
     let u = crate::math::any_perpendicular(axis);

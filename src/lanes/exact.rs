@@ -99,7 +99,7 @@ fn atan_positive<L: Lane>(t: L) -> L {
     t.lt(s(2f32.powi(-29))).select(t, result)
 }
 
-/// The library's `atan2f(y, x)` per lane (fdlibm's `__ieee754_atan2f` over [`atan_positive`]).
+/// The library's `atan2f(y, x)` per lane (fdlibm's `__ieee754_atan2f` over `atan_positive`).
 #[inline(always)]
 pub fn atan2<L: Lane>(y: L, x: L) -> L {
     const PI: f32 = 3.1415927410e+00_f64 as f32;

@@ -31,7 +31,7 @@
 //!
 //! Large worlds sort the entries and walk the cells on several threads: the cells are split into
 //! chunks at cell boundaries, each chunk's pairs into a reused buffer. The kept pairs are sorted
-//! by body (two counting passes, [`grid::sort_pairs`]), so the pairs and their order depend
+//! by body (two counting passes, `grid::sort_pairs`), so the pairs and their order depend
 //! neither on the thread count nor on when the grid was rebuilt (tested).
 //!
 //! Cost of a rebuild: a sort of about `8 n` entries plus the pairs in each cell, so it grows
