@@ -5,7 +5,10 @@
 //! ([`TwistMode::Exact`], [`LengthCorrection::Offset`]): soft bend (eq. 11), soft twist (eq.
 //! 12-13, the exact parallel-transport twist), hard curve (eq. 6, full gradient) and hard length
 //! (eq. 9, along the offset), in one function and in the scalar order, each part reading the
-//! frames the previous part left. Every branch of the scalar code is a mask:
+//! frames the previous part left; bend and twist one after the other, or, on the lanes whose
+//! rod asks for [`BendTwist::Block`] and where both act, from the same frames as one 2x2 block
+//! (a batch with no such rod runs only the sequential code). Every branch of the scalar code is
+//! a mask:
 //!
 //! - bend only where `alpha_b > 0` and `psi > 1e-7`; its axis `(t_a x t_b)^`, else
 //!   `any_perpendicular(t_a)`;

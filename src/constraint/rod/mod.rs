@@ -25,6 +25,9 @@
 //!   transport), or ([`TwistMode::Paper`]) as eq. 12, `tau = xi - psi` with `xi` the total
 //!   angle between `F(0)` and `F(1)`: it has no sign (we take the sign from the exact twist) and
 //!   underestimates a twist on a bent rod.
+//! - bend and twist together ([`BendTwist`]): by default one after the other, the twist
+//!   measured on the frames the bend left; or, sharing the frames (§7), as one 2x2 block over
+//!   `((t_a x t_b)^, t_b)` that removes both fractions at once.
 //!
 //! Stiffness in physical units (an alternative to the alphas, not in the paper): the fraction
 //! alpha removed per iteration makes the same alpha stiffer at more iterations, substeps or a
