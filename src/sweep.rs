@@ -19,7 +19,7 @@
 //!
 //! | column | meaning |
 //! |---|---|
-//! | `method` | `<spine>/<joint>[ simd][ x<substeps>][ warm<w>][ soft<f>Hz][ stack<k>][ redetect][ sweeps<n>]`, e.g. `rod/exact x4` |
+//! | `method` | `<spine>/<joint>[ simd][ x<substeps>][ warm<w>][ soft<f>Hz][ stack<k>][ redetect][ sweeps<n>][ block]`, e.g. `rod/exact x4` (` block`: the rod's bend and twist as one block) |
 //! | `spine` | chain3, rod or single |
 //! | `joint` | cheap or exact |
 //! | `solver` | scalar or simd (empty for a peer engine) |
@@ -40,10 +40,11 @@
 use std::time::Instant;
 
 use crate::chart::{Chart, Series};
-use crate::constraint::JointFlavour;
+use crate::constraint::{BendTwist, JointFlavour};
 use crate::lab::Lab;
 use crate::metrics::FrameMetrics;
 use crate::ragdoll::SpineKind;
+use crate::scene::RodOverrides;
 use crate::scene::{Scene, SceneDef};
 use crate::sim::Overrides;
 use crate::world::{ContactDetection, SolverKind};
@@ -80,6 +81,9 @@ pub struct SweepConfig {
     /// Contact-only sweeps after each substep's iterations (0: the paper's); empty keeps the
     /// scene's.
     pub contact_extra_sweeps: Vec<u32>,
+    /// The rod spine's bend and twist projections (sequential, the reference; block); empty
+    /// keeps the scene's. Other spines run once.
+    pub bend_twist: Vec<BendTwist>,
     /// Frames per run; `None` keeps the scene's.
     pub frames: Option<u32>,
     /// Runs per combination, pooled for the median step time.
@@ -100,6 +104,7 @@ impl Default for SweepConfig {
             contact_stacking: Vec::new(),
             contact_detection: Vec::new(),
             contact_extra_sweeps: Vec::new(),
+            bend_twist: Vec::new(),
             frames: None,
             repeats: 3,
         }
@@ -214,34 +219,48 @@ pub fn combinations(def: &SceneDef, config: &SweepConfig) -> Vec<Overrides> {
             }
         }
     }
+    // the rod's bend-twist projection is a rod spine's method dimension only
+    let bend_twists = |spine: SpineKind| match (spine, config.bend_twist.is_empty()) {
+        (SpineKind::Rod, false) => config.bend_twist.iter().map(|&b| Some(b)).collect(),
+        _ => vec![None],
+    };
     let mut all = Vec::new();
     for &spine in &config.spines {
-        for &joint in &config.joints {
-            for &solver in &solvers {
-                for &substeps in &substeps {
-                    for &(warm, hertz, stacking, detection, sweeps) in &contact_methods {
-                        // one substep detects once a frame either way: the same method twice
-                        let frame_listed = detections.contains(&ContactDetection::Frame);
-                        if substeps == 1 && detection == ContactDetection::Substep && frame_listed {
-                            continue;
-                        }
-                        for &dt in &dts {
-                            for &iterations in &config.iterations {
-                                all.push(Overrides {
-                                    spine: Some(spine),
-                                    joint_flavour: Some(joint),
-                                    solver: Some(solver),
-                                    substeps: Some(substeps),
-                                    contact_warm_start: Some(warm),
-                                    contact_hertz: Some(hertz),
-                                    contact_stacking: Some(stacking),
-                                    contact_detection: Some(detection),
-                                    contact_extra_sweeps: Some(sweeps),
-                                    dt: Some(dt),
-                                    iterations: Some(iterations),
-                                    frames: config.frames,
-                                    ..Default::default()
-                                });
+        for bend_twist in bend_twists(spine) {
+            for &joint in &config.joints {
+                for &solver in &solvers {
+                    for &substeps in &substeps {
+                        for &(warm, hertz, stacking, detection, sweeps) in &contact_methods {
+                            // one substep detects once a frame either way: the same method twice
+                            let frame_listed = detections.contains(&ContactDetection::Frame);
+                            if substeps == 1
+                                && detection == ContactDetection::Substep
+                                && frame_listed
+                            {
+                                continue;
+                            }
+                            for &dt in &dts {
+                                for &iterations in &config.iterations {
+                                    all.push(Overrides {
+                                        spine: Some(spine),
+                                        joint_flavour: Some(joint),
+                                        solver: Some(solver),
+                                        substeps: Some(substeps),
+                                        contact_warm_start: Some(warm),
+                                        contact_hertz: Some(hertz),
+                                        contact_stacking: Some(stacking),
+                                        contact_detection: Some(detection),
+                                        contact_extra_sweeps: Some(sweeps),
+                                        dt: Some(dt),
+                                        iterations: Some(iterations),
+                                        frames: config.frames,
+                                        rod: RodOverrides {
+                                            bend_twist,
+                                            ..Default::default()
+                                        },
+                                        ..Default::default()
+                                    });
+                                }
                             }
                         }
                     }
@@ -254,8 +273,9 @@ pub fn combinations(def: &SceneDef, config: &SweepConfig) -> Vec<Overrides> {
 
 /// The method's label: `<spine>/<joint>`, then ` simd` unless scalar, ` x<substeps>` unless
 /// 1, ` warm<w>`, ` soft<f>Hz` and ` stack<k>` unless 0, ` redetect` with detection every
-/// substep, and ` sweeps<n>` with extra contact sweeps (so the paper's method keeps its plain
-/// name); the joint flavour, solver, substeps
+/// substep, ` sweeps<n>` with extra contact sweeps, and ` block` for a rod spine with its bend
+/// and twist as one block (so the paper's method keeps its plain name); the joint flavour,
+/// solver, substeps
 /// and contact settings are the scene's.
 pub fn method_label(spine: SpineKind, def: &SceneDef) -> String {
     let mut label = format!("{spine}/{}", def.joint_flavour);
@@ -279,6 +299,10 @@ pub fn method_label(spine: SpineKind, def: &SceneDef) -> String {
     }
     if def.contact_extra_sweeps != 0 {
         label += &format!(" sweeps{}", def.contact_extra_sweeps);
+    }
+    let block = |b: Option<BendTwist>| b == Some(BendTwist::Block);
+    if spine == SpineKind::Rod && def.ragdoll.iter().any(|r| block(r.bend_twist)) {
+        label += " block";
     }
     label
 }

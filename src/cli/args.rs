@@ -139,6 +139,10 @@ pub struct SweepArgs {
     /// default the scene's.
     #[arg(long, value_delimiter = ',', value_parser = clap::value_parser!(u32).range(..=10_000))]
     pub contact_extra_sweeps: Vec<u32>,
+    /// The rod spine's bend and twist, comma separated: sequential (the reference), block;
+    /// default the scene's. Other spines run once.
+    #[arg(long, value_delimiter = ',', value_parser = parse_choice::<BendTwist>)]
+    pub bend_twist: Vec<BendTwist>,
     /// Worker threads of the solver; default rayon's (one per core).
     #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
     pub threads: Option<u64>,

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Context as _;
 
-use crate::constraint::JointFlavour;
+use crate::constraint::{BendTwist, JointFlavour};
 use crate::ragdoll::SpineKind;
 use crate::record;
 use crate::scene::Scene;
@@ -57,9 +57,11 @@ pub(super) fn main_job() -> anyhow::Result<()> {
     }
     let [bending, drop] = SWEPT_SCENES.map(|name| scenes.join(format!("{name}.toml")));
     let path = bending;
-    // the paper's one step a frame (the reference line) beside 4 substeps, on one cost axis
+    // the paper's one step a frame (the reference line) beside 4 substeps, on one cost axis,
+    // and the rod's bend and twist one after the other (the reference) beside one block
     let config = crate::sweep::SweepConfig {
         substeps: vec![1, 4],
+        bend_twist: vec![BendTwist::Sequential, BendTwist::Block],
         ..Default::default()
     };
     sweep(&path, &config, None, Shard::ALL, out)?;

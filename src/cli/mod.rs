@@ -102,6 +102,7 @@ fn dispatch_command(cli: Cli, matches: &ArgMatches) -> anyhow::Result<()> {
                 contact_stacking: args.contact_stacking,
                 contact_detection: args.contact_detection,
                 contact_extra_sweeps: args.contact_extra_sweeps,
+                bend_twist: args.bend_twist,
                 frames: args.frames,
                 repeats: args.repeats,
             };
