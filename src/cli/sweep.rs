@@ -49,8 +49,12 @@ pub(super) fn sweep(
     let mut progress = Progress::new(runs);
     let mut rows = Vec::with_capacity(combinations.len());
     for overrides in &combinations {
+        let block = match overrides.rod.bend_twist {
+            Some(crate::constraint::BendTwist::Block) => " block",
+            _ => "",
+        };
         progress.show(&format!(
-            "{}/{} {} dt={:.4} substeps={} warm={} soft={}Hz stack={} detect={} sweeps={} \
+            "{}/{}{block} {} dt={:.4} substeps={} warm={} soft={}Hz stack={} detect={} sweeps={} \
              iterations={}",
             overrides.spine.unwrap_or_default(),
             overrides.joint_flavour.unwrap_or_default(),
