@@ -12,11 +12,11 @@ use criterion::{
     criterion_group, criterion_main, BatchSize, BenchmarkGroup, BenchmarkId, Criterion, Throughput,
 };
 use rodlab::body::{Body, BodyKind};
+use rodlab::cli::load_scene;
 use rodlab::contact::Contacts;
 use rodlab::lab::Lab;
 use rodlab::math::{Iso, Quat, Vec3};
 use rodlab::ragdoll::{build_humanoid, HumanoidSpec, SpineKind};
-use rodlab::scene::Scene;
 use rodlab::shape::Shape;
 use rodlab::sim::{self, NoObserver, Overrides};
 use rodlab::world::{Settings, World};
@@ -26,15 +26,11 @@ use rodlab::world::{Settings, World};
 /// 1 s and at 9 s).
 fn labs_at(file: &str, variant: Option<&str>, spine: SpineKind, frames: &[u32]) -> Vec<Lab> {
     let path = format!("{}/scenes/{file}", env!("CARGO_MANIFEST_DIR"));
-    let mut scene = Scene::load(&path).unwrap();
-    if let Some(name) = variant {
-        scene = scene.variant(name).unwrap();
-    }
-    Overrides {
+    let spine = Overrides {
         spine: Some(spine),
         ..Default::default()
-    }
-    .apply(&mut scene.def);
+    };
+    let scene = load_scene(path.as_ref(), variant, &spine).unwrap();
     let mut lab = scene.build().unwrap();
     let mut labs = Vec::new();
     for &n in frames {

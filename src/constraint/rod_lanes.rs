@@ -192,10 +192,7 @@ fn bend_then_twist<L: Lane>(
     let zero = L::zero();
     // Soft bend (eq. 11): remove alpha_b of psi about t_a x t_b.
     let (ta, tb) = tangents(row, a, b);
-    let (axis, sin) = ta
-        .cross(tb)
-        .normalize_or(ta.any_orthonormal(), TRY_NORMALIZE_EPS);
-    let psi = sin.atan2(ta.dot(tb));
+    let (axis, psi) = bend_axis_and_angle(ta, ta.cross(tb), ta.dot(tb));
     let bend = row.alpha_bend.gt(zero) & psi.gt(L::splat(1e-7));
     let bend_rotation = axis.scale(-row.alpha_bend * psi);
     relative_rotation(a, b, seq_a & bend, seq_b & bend, bend_rotation);
@@ -230,8 +227,7 @@ fn bend_and_twist_as_block<L: Lane>(
     let (ta, tb) = (fa.x_axis(), fb.x_axis());
     // the bend's cross and dot products are the twist transport's too
     let (cross, dot) = (ta.cross(tb), ta.dot(tb));
-    let (axis, sin) = cross.normalize_or(ta.any_orthonormal(), TRY_NORMALIZE_EPS);
-    let psi = sin.atan2(dot);
+    let (axis, psi) = bend_axis_and_angle(ta, cross, dot);
     let both = block & row.alpha_bend.gt(zero) & row.alpha_twist.gt(zero) & psi.gt(L::splat(1e-7));
     if both.any() {
         let tau = twist_along(fa, fb, rotation_arc_given(ta, dot, cross));
@@ -246,6 +242,14 @@ fn bend_and_twist_as_block<L: Lane>(
 #[inline(always)]
 fn movable<L: Lane>(body: &BodyLanes<L>) -> L {
     body.inverse_mass.gt(L::zero())
+}
+
+/// The bend axis `(t_a x t_b)^` (else `any_perpendicular(t_a)`) and angle psi, from the
+/// tangents' cross and dot products.
+#[inline(always)]
+fn bend_axis_and_angle<L: Lane>(ta: V3<L>, cross: V3<L>, dot: L) -> (V3<L>, L) {
+    let (axis, sin) = cross.normalize_or(ta.any_orthonormal(), TRY_NORMALIZE_EPS);
+    (axis, sin.atan2(dot))
 }
 
 /// Lengths at or below this fail glam's `try_normalize` (its reciprocal is not finite).

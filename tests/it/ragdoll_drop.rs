@@ -3,6 +3,7 @@
 //! dislocation than the three-joint spine: on the mean over four layouts, and on at least 80%
 //! of all their frames (the contacts issue asks for 90%; see the test).
 
+use rodlab::cli::load_scene;
 use rodlab::lab::Lab;
 use rodlab::ragdoll::SpineKind;
 use rodlab::scene::Scene;
@@ -270,15 +271,11 @@ fn the_drop_pile_falls_asleep_at_the_scenes_at_rest_variant() {
 fn stacking_leaves_less_than_two_thirds_of_the_papers_settled_dislocation() {
     let _alone = one_at_a_time();
     let settled = |variant: Option<&str>, spine: SpineKind| {
-        let mut scene = Scene::load(SCENE).unwrap();
-        if let Some(name) = variant {
-            scene = scene.variant(name).unwrap();
-        }
-        Overrides {
+        let spine = Overrides {
             spine: Some(spine),
             ..Default::default()
-        }
-        .apply(&mut scene.def);
+        };
+        let scene = load_scene(SCENE.as_ref(), variant, &spine).unwrap();
         let mut lab = scene.build().unwrap();
         let report = sim::run(&mut lab, scene.def.frames, &mut sim::NoObserver).unwrap();
         report.total_dislocation_cm[300..].to_vec()
