@@ -1,13 +1,13 @@
 //! Contact detection, once per frame (step 1 of the solver): bodies to [`Collider`] records,
-//! the broad phase's candidate pairs, the filters (joined bodies, group and mask bits), then the
-//! narrow phase of each pair and its new points, which inherit from last step's
-//! ([`Handover`]).
+//! the broad phase's candidate pairs (never two joined bodies: [`Joined`]), the group and mask
+//! filter, then the narrow phase of each pair and its new points, which inherit from last
+//! step's ([`Handover`]).
 //!
 //! The narrow phase runs the pairs in chunks on several threads, each chunk into its own reused
 //! buffer, concatenated in pair order, so the points come out the same for any thread count.
 
 use super::broadphase::gaps::{self, Motion};
-use super::broadphase::BroadPhase;
+use super::broadphase::{BroadPhase, Joined};
 use super::collider::{self, Collider, PARALLEL_BODIES};
 use super::feature::Feature;
 use super::handover::Handover;
@@ -28,11 +28,8 @@ pub struct Detection {
     /// The candidate pairs after the broad phase's kept ones ([`BroadPhase::report_others`]).
     others: Vec<(u32, u32)>,
     chunks: Vec<ChunkOut>,
-    /// Bodies that never collide with body `i` (joined to it): `excluded[excluded_start[i]..
-    /// excluded_start[i + 1]]`, a handful per body; and the constraint count they were built for.
-    excluded: Vec<u32>,
-    excluded_start: Vec<u32>,
-    excluded_for: usize,
+    /// The constraint and body counts the broad phase's [`Joined`] pairs were built for.
+    joined_for: Option<(usize, usize)>,
     /// Pairs the gap bounds skipped at the last detection.
     skipped: usize,
 }
@@ -47,8 +44,10 @@ impl Detection {
         dt: f32,
         margin: f32,
     ) {
-        if self.excluded_for != constraints.len() || self.excluded_start.len() != bodies.len() + 1 {
-            self.build_exclusions(bodies.len(), constraints);
+        if self.joined_for != Some((constraints.len(), bodies.len())) {
+            self.broad_phase
+                .set_joined(joined(bodies.len(), constraints));
+            self.joined_for = Some((constraints.len(), bodies.len()));
         }
         // last step's points handed over beside the records and the broad phase (independent)
         let (handover, colliders) = (&mut self.handover, &mut self.colliders);
@@ -91,8 +90,6 @@ impl Detection {
         let found = PairContext {
             colliders: &self.colliders,
             handover: &self.handover,
-            excluded: &self.excluded,
-            excluded_start: &self.excluded_start,
             dt,
             margin,
         };
@@ -113,7 +110,9 @@ impl Detection {
             out.skipped =
                 broad_phase.report_kept_bounded(kept_range, bounds, motions, reach, collide);
             for &(a, b) in &others[range.start.max(kept) - kept..range.end.max(kept) - kept] {
-                found.collide(a, b, out);
+                if !broad_phase.joined(a, b) {
+                    found.collide(a, b, out);
+                }
             }
         };
         if chunks > 1 {
@@ -135,34 +134,17 @@ impl Detection {
     pub fn pairs_skipped(&self) -> usize {
         self.skipped
     }
+}
 
-    /// Rebuilds the per-body lists of joined bodies (each pair under its lower body index).
-    fn build_exclusions(&mut self, body_count: usize, constraints: &[Constraint]) {
-        let joined = || {
-            constraints.iter().filter_map(|c| {
-                let connected = matches!(c, Constraint::BallSocket(j) if j.collide_connected);
-                let (a, b) = c.bodies();
-                (!connected).then_some((a.0.min(b.0), a.0.max(b.0)))
-            })
-        };
-        self.excluded_start.clear();
-        self.excluded_start.resize(body_count + 1, 0);
-        for (low, _) in joined() {
-            self.excluded_start[low as usize + 1] += 1;
-        }
-        for i in 0..body_count {
-            self.excluded_start[i + 1] += self.excluded_start[i];
-        }
-        self.excluded.clear();
-        self.excluded
-            .resize(self.excluded_start[body_count] as usize, 0);
-        let mut filled = self.excluded_start.clone();
-        for (low, high) in joined() {
-            self.excluded[filled[low as usize] as usize] = high;
-            filled[low as usize] += 1;
-        }
-        self.excluded_for = constraints.len();
-    }
+/// The body pairs the constraints join and that never collide (all but joints with
+/// `collide_connected`).
+fn joined(body_count: usize, constraints: &[Constraint]) -> Joined {
+    let pairs = constraints.iter().filter_map(|c| {
+        let connected = matches!(c, Constraint::BallSocket(j) if j.collide_connected);
+        let (a, b) = c.bodies();
+        (!connected).then_some((a.0, b.0))
+    });
+    Joined::new(body_count, pairs)
 }
 
 /// Appends the chunks' points to `points` in chunk order, large outputs copied on several
@@ -201,8 +183,6 @@ struct ChunkOut {
 struct PairContext<'a> {
     colliders: &'a [Collider],
     handover: &'a Handover,
-    excluded: &'a [u32],
-    excluded_start: &'a [u32],
     dt: f32,
     margin: f32,
 }
@@ -211,11 +191,6 @@ impl PairContext<'_> {
     /// The contact points of the pair (a, b) (filtered, then the narrow phase) onto `out`, and
     /// a lower bound on the distance of its shapes if it made none ([`gaps`]).
     fn collide(&self, a: u32, b: u32, out: &mut ChunkOut) -> f32 {
-        let (first, last) = (a.min(b) as usize, a.max(b));
-        let range = self.excluded_start[first] as usize..self.excluded_start[first + 1] as usize;
-        if self.excluded[range].contains(&last) {
-            return gaps::UNKNOWN;
-        }
         let (ca, cb) = (&self.colliders[a as usize], &self.colliders[b as usize]);
         if ca.collision_group & cb.collision_mask == 0
             || cb.collision_group & ca.collision_mask == 0

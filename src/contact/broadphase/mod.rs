@@ -44,6 +44,7 @@
 
 pub mod gaps;
 mod grid;
+mod joined;
 mod report;
 #[cfg(test)]
 mod tests;
@@ -53,6 +54,7 @@ use crate::body::BodyKind;
 use crate::math::Vec3;
 use crate::shape::Shape;
 use grid::{cell_span, key, merge_kept, sort_pairs, Aabb, Bits, KEY_MASK};
+pub use joined::Joined;
 
 /// How much larger than its tight box (m, each side) a body's fat box is: a body resting or
 /// swinging by a few centimetres keeps its fat box, and its pairs, for many steps.
@@ -93,6 +95,7 @@ impl Flags {
 #[derive(Clone, Copy, Debug)]
 struct CellBox {
     index: u32,
+    body: u32,
     flags: Flags,
     /// Bit k: the box's lowest cell along axis k is this cell's (see [`cell_pairs`]).
     starts_here: u8,
@@ -157,6 +160,9 @@ pub struct BroadPhase {
     /// Scratch: the moved proxies' new grid entries, and the merge.
     found_entries: Vec<(u64, u32)>,
     merged_entries: Vec<(u64, u32)>,
+    /// Body pairs never paired ([`Joined`]), and whether they changed since the last rebuild.
+    joined: Joined,
+    joined_changed: bool,
     /// Grid rebuilds so far (a settled world rebuilds rarely).
     pub rebuilds: u64,
 }
@@ -179,10 +185,22 @@ impl BroadPhase {
         }
     }
 
+    /// Sets the body pairs that are never paired (joined by a joint or rod); the next
+    /// [`Self::update`] rebuilds the kept pairs without them.
+    pub fn set_joined(&mut self, joined: Joined) {
+        self.joined = joined;
+        self.joined_changed = true;
+    }
+
+    /// Whether bodies `a` and `b` are never paired ([`Self::set_joined`]).
+    pub fn joined(&self, a: u32, b: u32) -> bool {
+        self.joined.contains(a, b)
+    }
+
     /// Brings the fat boxes and the kept pairs up to this step's bodies. Returns false when
     /// nothing moves (then there are no pairs).
     pub fn update(&mut self, bodies: &[Collider], dt: f32, margin: f32) -> bool {
-        let mut rebuild = false;
+        let mut rebuild = std::mem::take(&mut self.joined_changed);
         if self.proxies.len() + self.half_spaces.len() != bodies.len() {
             self.fat_pairs.clear(); // indices into the old proxies: their bounds mean nothing now
             self.gaps.clear();
@@ -318,7 +336,7 @@ impl BroadPhase {
                             }
                             // reported from the cell of the overlap's lower corner only
                             let corner = [0, 1, 2].map(|k| a.low_cell[k].max(b.low_cell[k]));
-                            if key(corner) == cell {
+                            if key(corner) == cell && !self.joined.contains(a.body, b.body) {
                                 self.found.push((m.min(i), m.max(i)));
                             }
                         }
@@ -355,14 +373,17 @@ impl BroadPhase {
         let proxies = &self.proxies;
         let entries = &self.entries;
         let bounds = &self.bounds;
+        let joined = &self.joined;
         if chunks > 1 {
             use rayon::prelude::*;
             self.chunk_pairs[..chunks]
                 .par_iter_mut()
                 .enumerate()
-                .for_each(|(c, out)| cell_pairs(&entries[bounds[c]..bounds[c + 1]], proxies, out));
+                .for_each(|(c, out)| {
+                    cell_pairs(&entries[bounds[c]..bounds[c + 1]], proxies, joined, out)
+                });
         } else {
-            cell_pairs(entries, proxies, &mut self.chunk_pairs[0]);
+            cell_pairs(entries, proxies, joined, &mut self.chunk_pairs[0]);
         }
         std::mem::swap(&mut self.fat_pairs, &mut self.old_pairs);
         std::mem::swap(&mut self.gaps, &mut self.old_gaps);
@@ -446,8 +467,8 @@ impl BroadPhase {
 }
 
 /// The pairs of one run of `entries` (whole cells): each cell's boxes swept along x, each
-/// overlapping pair reported by the cell holding its overlap's lower corner.
-fn cell_pairs(entries: &[(u64, u32)], proxies: &[Proxy], out: &mut ChunkPairs) {
+/// overlapping pair not `joined` reported by the cell holding its overlap's lower corner.
+fn cell_pairs(entries: &[(u64, u32)], proxies: &[Proxy], joined: &Joined, out: &mut ChunkPairs) {
     out.pairs.clear();
     let mut start = 0;
     while start < entries.len() {
@@ -465,6 +486,7 @@ fn cell_pairs(entries: &[(u64, u32)], proxies: &[Proxy], out: &mut ChunkPairs) {
             let low = p.low_cell.map(|c| c as u64 & KEY_MASK);
             CellBox {
                 index,
+                body: p.body,
                 flags: p.flags,
                 starts_here: (0..3).fold(0, |bits, k| bits | ((low[k] == here[k]) as u8) << k),
                 fat: p.fat,
@@ -485,7 +507,7 @@ fn cell_pairs(entries: &[(u64, u32)], proxies: &[Proxy], out: &mut ChunkPairs) {
                 // reported from the one cell holding the overlap's lower corner: per axis the
                 // larger of the two lowest cells, which is this cell's exactly when one of the
                 // boxes starts here (both reach it)
-                if a.starts_here | b.starts_here == 0b111 {
+                if a.starts_here | b.starts_here == 0b111 && !joined.contains(a.body, b.body) {
                     out.pairs.push((a.index.min(b.index), a.index.max(b.index)));
                 }
             }
