@@ -11,6 +11,7 @@ use super::broadphase::{BroadPhase, Joined};
 use super::collider::{self, Collider, PARALLEL_BODIES};
 use super::feature::Feature;
 use super::handover::Handover;
+use super::round_lanes::{self, round_radius, RoundPair, RoundTest};
 use super::{manifold, narrowphase, ContactPoint, PARALLEL_PAIRS};
 use crate::body::{Body, BodyId};
 use crate::constraint::Constraint;
@@ -100,18 +101,46 @@ impl Detection {
         let motions = &self.motions;
         // chunk c: candidates c * chunk_len.. of the kept pairs followed by the others
         let run = |c: usize, out: &mut ChunkOut, bounds: &mut [f32]| {
-            out.points.clear();
-            out.skipped = 0;
             let range = (c * chunk_len).min(total)..((c + 1) * chunk_len).min(total);
-            let collide = |a: u32, b: u32| found.collide(a, b, out);
             let kept_range = range.start.min(kept)..range.end.min(kept);
             let bounds = &mut bounds[..kept_range.len()];
-            let reach = (margin, dt);
+            // the pairs to test: the kept ones the gap bounds do not skip (with their bound's
+            // place), then the others
+            let tested = &mut out.tested;
+            tested.clear();
+            let list = |a: u32, b: u32, slot: usize| {
+                tested.push((a, b, slot as u32));
+                gaps::UNKNOWN
+            };
             out.skipped =
-                broad_phase.report_kept_bounded(kept_range, bounds, motions, reach, collide);
+                broad_phase.report_kept_bounded(kept_range, bounds, motions, (margin, dt), list);
             for &(a, b) in &others[range.start.max(kept) - kept..range.end.max(kept) - kept] {
                 if !broad_phase.joined(a, b) {
-                    found.collide(a, b, out);
+                    tested.push((a, b, u32::MAX));
+                }
+            }
+            // their sphere and capsule pairs' shape tests in lanes, then every pair's points
+            // in order
+            out.round_pairs.clear();
+            let round = tested.iter().filter(|&&(a, b, _)| found.is_round(a, b));
+            let pairs = round.map(|&(a, b, _)| RoundPair {
+                a,
+                b,
+                reach: found.reach(a, b),
+            });
+            out.round_pairs.extend(pairs);
+            out.round_tests.clear();
+            round_lanes::test_pairs(found.colliders, &out.round_pairs, &mut out.round_tests);
+            out.points.clear();
+            let mut round_tests = out.round_tests.iter();
+            for &(a, b, slot) in &out.tested {
+                let test = match found.is_round(a, b) {
+                    true => *round_tests.next().expect("one test per round pair"),
+                    false => RoundTest::Scalar,
+                };
+                let gap = found.collide(a, b, test, &mut out.points, &mut out.features);
+                if let Some(bound) = bounds.get_mut(slot as usize) {
+                    *bound = gap;
                 }
             }
         };
@@ -175,6 +204,12 @@ fn concatenate(chunks: &[ChunkOut], points: &mut Vec<ContactPoint>) {
 struct ChunkOut {
     points: Vec<ContactPoint>,
     features: Vec<Feature>,
+    /// The pairs to test, each with its gap bound's place in the chunk (`u32::MAX` for the
+    /// large boxes' and half-spaces' pairs, which have none).
+    tested: Vec<(u32, u32, u32)>,
+    /// The tested pairs of spheres and capsules, and what the lanes found for each.
+    round_pairs: Vec<RoundPair>,
+    round_tests: Vec<RoundTest>,
     /// Pairs whose gap bound proved them out of reach this step.
     skipped: usize,
 }
@@ -188,31 +223,64 @@ struct PairContext<'a> {
 }
 
 impl PairContext<'_> {
-    /// The contact points of the pair (a, b) (filtered, then the narrow phase) onto `out`, and
-    /// a lower bound on the distance of its shapes if it made none ([`gaps`]).
-    fn collide(&self, a: u32, b: u32, out: &mut ChunkOut) -> f32 {
+    /// Whether both bodies are spheres or capsules ([`round_lanes`]).
+    fn is_round(&self, a: u32, b: u32) -> bool {
+        let round = |i: u32| round_radius(&self.colliders[i as usize].shape).is_some();
+        round(a) && round(b)
+    }
+
+    /// How far the pair's surfaces may be apart and still make a point: the margin plus how
+    /// far they may close this frame, the relative speed of the centres plus what spin adds at
+    /// the farthest surface point (a limb spinning at 20 rad/s moves its tip 5 cm a frame
+    /// further than its centre).
+    fn reach(&self, a: u32, b: u32) -> f32 {
+        let (ca, cb) = (&self.colliders[a as usize], &self.colliders[b as usize]);
+        let closing =
+            (ca.linear_velocity - cb.linear_velocity).length() + ca.spin_bound + cb.spin_bound;
+        self.margin + self.dt * closing
+    }
+
+    /// The contact points of the pair (a, b) (filtered, then the narrow phase, or what the
+    /// lanes found, `test`) onto `points`, and a lower bound on the distance of its shapes if
+    /// it made none ([`gaps`]).
+    fn collide(
+        &self,
+        a: u32,
+        b: u32,
+        test: RoundTest,
+        points: &mut Vec<ContactPoint>,
+        features: &mut Vec<Feature>,
+    ) -> f32 {
         let (ca, cb) = (&self.colliders[a as usize], &self.colliders[b as usize]);
         if ca.collision_group & cb.collision_mask == 0
             || cb.collision_group & ca.collision_mask == 0
         {
             return gaps::UNKNOWN;
         }
-        // how far the two surfaces may close this frame: the relative speed of the centres
-        // plus what spin adds at the farthest surface point (a limb spinning at 20 rad/s
-        // moves its tip 5 cm a frame further than its centre)
-        let closing =
-            (ca.linear_velocity - cb.linear_velocity).length() + ca.spin_bound + cb.spin_bound;
-        let reach = self.margin + self.dt * closing;
-        out.features.clear();
-        if !narrowphase::collide(ca, cb, reach, &mut out.features) {
-            return narrowphase::capsule_gap(ca, cb);
+        let reach = self.reach(a, b);
+        features.clear();
+        match test {
+            RoundTest::Scalar => {
+                if !narrowphase::collide(ca, cb, reach, features) {
+                    return narrowphase::capsule_gap(ca, cb);
+                }
+            }
+            RoundTest::Apart { gap } => return gap,
+            RoundTest::Close { on_a, on_b, gap } => {
+                let radius = |c: &Collider| round_radius(&c.shape).unwrap_or(0.0);
+                let (on_a, on_b) = ((on_a, radius(ca)), (on_b, radius(cb)));
+                features.extend(narrowphase::sphere_sphere(ca, cb, on_a, on_b, reach, 0));
+                if features.is_empty() {
+                    return gap;
+                }
+            }
         }
         let static_friction = (ca.static_friction * cb.static_friction).sqrt();
         let dynamic_friction = (ca.dynamic_friction * cb.dynamic_friction).sqrt();
         let restitution = ca.restitution.max(cb.restitution);
         let previous = self.handover.of_pair(a, b);
-        manifold::reduce(&mut out.features, 0);
-        for f in &out.features {
+        manifold::reduce(features, 0);
+        for f in features.iter() {
             let local_a = ca.orientation.inverse() * (f.point_a - ca.position);
             let local_b = cb.orientation.inverse() * (f.point_b - cb.position);
             let same = previous.clone().find(|p| p.id == f.id);
@@ -222,7 +290,7 @@ impl PairContext<'_> {
                 let anchors = (p.anchor_a, p.anchor_b);
                 manifold::carried_anchors(anchors, ca, cb, f.normal, (local_a, local_b))
             });
-            out.points.push(ContactPoint {
+            points.push(ContactPoint {
                 body_a: BodyId(a),
                 body_b: BodyId(b),
                 id: f.id,

@@ -39,6 +39,7 @@ pub mod lanes;
 mod lanes_substep;
 pub mod manifold;
 pub mod narrowphase;
+pub mod round_lanes;
 mod softness;
 mod substep;
 

@@ -25,19 +25,20 @@ impl BroadPhase {
 
     /// [`Self::report_kept`] with the kept pairs' gap bounds ([`gaps`]): `gaps` is the
     /// bounds of `range` (from [`Self::take_gaps`]), `motions` each body's since the last
-    /// step. A pair proven out of reach is skipped; `pair` returns the new bound of a pair
-    /// it tests. Returns how many pairs were skipped.
+    /// step. A pair proven out of reach is skipped; `pair` is told each other pair and its
+    /// place in `range` and returns its new bound (which the caller may also write later).
+    /// Returns how many pairs were skipped.
     pub fn report_kept_bounded(
         &self,
         range: std::ops::Range<usize>,
         bounds: &mut [f32],
         motions: &[gaps::Motion],
         (margin, dt): (f32, f32),
-        mut pair: impl FnMut(u32, u32) -> f32,
+        mut pair: impl FnMut(u32, u32, usize) -> f32,
     ) -> usize {
         let (proxies, tight) = (&self.proxies, &self.tight);
         let mut skipped = 0;
-        for (&(a, b), gap) in self.fat_pairs[range].iter().zip(bounds) {
+        for (slot, (&(a, b), gap)) in self.fat_pairs[range].iter().zip(bounds).enumerate() {
             if !tight[a as usize].overlaps(&tight[b as usize]) {
                 *gap = gaps::UNKNOWN;
                 continue;
@@ -48,7 +49,7 @@ impl BroadPhase {
             if gaps::out_of_reach(*gap, ma, mb, margin, dt) {
                 skipped += 1;
             } else {
-                *gap = pair(a, b);
+                *gap = pair(a, b, slot);
             }
         }
         skipped
