@@ -123,6 +123,8 @@ const LARGE_CELLS: i64 = 1024;
 #[derive(Clone, Debug, Default)]
 struct ChunkPairs {
     pairs: Vec<(u32, u32)>,
+    /// Scratch: the second bodies of one box's pairs in a cell.
+    bodies: Vec<u32>,
     group: Vec<CellBox>,
 }
 
@@ -497,20 +499,34 @@ fn cell_pairs(entries: &[(u64, u32)], proxies: &[Proxy], joined: &Joined, out: &
         // most of the broad phase)
         group.sort_unstable_by(|a, b| a.fat.min[0].total_cmp(&b.fat.min[0]));
         for (i, a) in group.iter().enumerate() {
-            for b in &group[i + 1..] {
-                if b.fat.min[0] > a.fat.max[0] {
-                    break;
-                }
-                if !a.flags.may_touch(b.flags) || !a.fat.overlaps(&b.fat) {
-                    continue;
-                }
+            // the boxes that start before a ends, each written as a pair and kept (the length
+            // moved on) where it is one: without a branch per box, whose outcome no predictor
+            // learns (half the rain's landing-frame broad phase went on mispredictions)
+            let rest = &group[i + 1..];
+            let reach = rest.partition_point(|b| b.fat.min[0] <= a.fat.max[0]);
+            let first = out.pairs.len();
+            out.pairs.resize(first + reach, (0, 0));
+            out.bodies.resize(reach, 0);
+            let mut kept = 0;
+            for b in &rest[..reach] {
                 // reported from the one cell holding the overlap's lower corner: per axis the
                 // larger of the two lowest cells, which is this cell's exactly when one of the
                 // boxes starts here (both reach it)
-                if a.starts_here | b.starts_here == 0b111 && !joined.contains(a.body, b.body) {
-                    out.pairs.push((a.index.min(b.index), a.index.max(b.index)));
+                let here = a.starts_here | b.starts_here == 0b111;
+                let pair = here & a.flags.may_touch(b.flags) & a.fat.overlaps_branchless(&b.fat);
+                out.pairs[first + kept] = (a.index.min(b.index), a.index.max(b.index));
+                out.bodies[kept] = b.body;
+                kept += pair as usize;
+            }
+            // the joined ones out (a handful)
+            let mut written = first;
+            for k in 0..kept {
+                if !joined.contains(a.body, out.bodies[k]) {
+                    out.pairs[written] = out.pairs[first + k];
+                    written += 1;
                 }
             }
+            out.pairs.truncate(written);
         }
         start = end;
     }
