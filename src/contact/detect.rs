@@ -5,6 +5,9 @@
 //!
 //! The narrow phase runs the pairs in chunks on several threads, each chunk into its own reused
 //! buffer, concatenated in pair order, so the points come out the same for any thread count.
+//! A chunk lists the pairs it must test, runs the shape tests of its sphere and capsule pairs
+//! W at a time ([`round_lanes`], the scalar results to the bit), then makes every pair's
+//! points in pair order.
 
 use super::broadphase::gaps::{self, Motion};
 use super::broadphase::{BroadPhase, Joined};
