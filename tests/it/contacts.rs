@@ -160,6 +160,67 @@ fn collision_groups_filter_pairs() {
     assert!(world.body(ia).position.x > 0.3 && world.body(ib).position.x < -0.3);
 }
 
+/// Bodies joined by a joint or a rod never make contact points, however they overlap, while the
+/// grid is built and while they fall through it (fat boxes left every step); a joint that sets
+/// `collide_connected` lets its pair collide.
+#[test]
+fn joined_bodies_make_no_points_unless_the_joint_asks() {
+    use rodlab::body::BodyId;
+    use rodlab::constraint::{BallSocket, Constraint, Rod};
+    let capsule = |name: &str, x: f32| {
+        let shape = Shape::Capsule {
+            half_height: 0.2,
+            radius: 0.05,
+            axis: Axis::X,
+        };
+        Body::new(name, BodyKind::Dynamic, shape, 1.0)
+            .with_pose(Vec3::new(x, 2.0, 0.0), Quat::IDENTITY)
+    };
+    // (joint, collide_connected): a joint, a joint that asks to collide, a rod
+    for (kind, connected) in [("joint", false), ("joint", true), ("rod", false)] {
+        let mut world = World::new(settings());
+        // three capsules in a row, each overlapping the next by 10 cm (joined a-b, free b-c)
+        let a = world.add_body(capsule("a", 0.0));
+        let b = world.add_body(capsule("b", 0.4));
+        let c = world.add_body(capsule("c", 0.8));
+        match kind {
+            "joint" => {
+                let anchor = Vec3::new(0.2, 2.0, 0.0);
+                let mut joint =
+                    BallSocket::at_world_anchor("ab", &world.bodies, a, b, anchor, Quat::IDENTITY);
+                joint.collide_connected = connected;
+                world.add_constraint(joint);
+            }
+            _ => {
+                let rod = Rod::instantiate("ab", &world.bodies, a, b, Vec3::Z).unwrap();
+                world.add_constraint(Constraint::Rod(rod));
+            }
+        }
+        let touching = |w: &World, x: BodyId, y: BodyId| {
+            let pair = (x.min(y), x.max(y));
+            (w.contacts.points.iter())
+                .any(|p| (p.body_a.min(p.body_b), p.body_a.max(p.body_b)) == pair)
+        };
+        let (mut ab_frames, mut bc_frames) = (0, 0);
+        for _ in 0..30 {
+            world.step().unwrap();
+            ab_frames += touching(&world, a, b) as u32;
+            bc_frames += touching(&world, b, c) as u32;
+        }
+        // the free pair collides from the first frame on (it is pushed apart, then stays
+        // within the margin); the joined one only when its joint asks
+        assert!(bc_frames > 0, "{kind}: the free pair never touched");
+        match connected {
+            true => assert!(ab_frames > 0, "{kind}: collide_connected made no point"),
+            false => assert_eq!(ab_frames, 0, "{kind}: the joined pair made points"),
+        }
+        assert!(
+            world.body(a).position.y < 1.0,
+            "{kind}: the bodies did not fall"
+        );
+    }
+}
+
 #[test]
 fn dropped_ragdoll_lands_and_settles_above_the_floor() {
     for spine in [SpineKind::Chain3, SpineKind::Rod] {
