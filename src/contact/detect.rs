@@ -265,7 +265,7 @@ impl PairContext<'_> {
         match test {
             RoundTest::Scalar => {
                 if !narrowphase::collide(ca, cb, reach, features) {
-                    return narrowphase::capsule_gap(ca, cb);
+                    return narrowphase::gap(ca, cb);
                 }
             }
             RoundTest::Apart { gap } => return gap,

@@ -74,6 +74,7 @@ pub fn reduce(points: &mut Vec<Feature>, first: usize) {
 /// The friction anchors (body space) of a point found again, whose last step's anchors were
 /// `previous` and stuck to the end: its new body-space points `local_a`, `local_b`, with b's
 /// shifted by the anchors' tangential offset at the current poses (see the module docs).
+#[inline]
 pub fn carried_anchors(
     previous: (Vec3, Vec3),
     a: &Collider,

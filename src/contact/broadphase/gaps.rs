@@ -10,9 +10,9 @@
 //! largest reach the narrow phase could give it by [`SLACK`], so the points found are the same,
 //! to the bit, as with every pair tested: skipped pairs are pairs that make no point.
 //!
-//! - The bound comes from the narrow phase of a pair of spheres or capsules that made no point
-//!   ([`crate::contact::narrowphase::capsule_gap`]); any other pair, and any pair that touches,
-//!   gets [`UNKNOWN`] and is tested every step.
+//! - The bound comes from the narrow phase of a pair of spheres or capsules, or of a box and a
+//!   sphere or capsule, that made no point ([`crate::contact::narrowphase::gap`]); any other
+//!   pair, and any pair that touches, gets [`UNKNOWN`] and is tested every step.
 //! - Each step it falls by the relative shift of the two centres plus what each body's turn
 //!   moves a point at its bounding radius ([`Motion`]); a pair whose tight boxes do not overlap
 //!   is not looked at and forgets its bound.
