@@ -71,8 +71,9 @@ struct Proxy {
     moved: bool,
     /// The fat box, which contains this step's tight box.
     fat: Aabb,
-    /// The cell of the fat box's lower corner at the last rebuild.
+    /// The cells of the fat box's lower and upper corners, as entered in the grid.
     low_cell: [i64; 3],
+    high_cell: [i64; 3],
 }
 
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -156,8 +157,10 @@ pub struct BroadPhase {
     found: Vec<(u32, u32)>,
     merged: Vec<(u32, u32)>,
     counts: Vec<u32>,
-    /// Proxies moved this step (ascending), and as bits.
+    /// Proxies moved this step (ascending), and as bits; those of them whose fat boxes changed
+    /// cells.
     moved: Vec<u32>,
+    recelled: Vec<u32>,
     moved_bits: Bits,
     /// Scratch: the moved proxies' new grid entries, and the merge.
     found_entries: Vec<(u64, u32)>,
@@ -285,17 +288,23 @@ impl BroadPhase {
                 return false; // grown too large for the grid
             }
         }
-        // the grid: the moved bodies' entries out, their new cells in (one merge)
-        self.moved_bits.set(self.proxies.len(), &self.moved);
+        // the grid: the entries of the moved bodies whose fat boxes changed cells out, their
+        // new cells in (one merge; most new fat boxes of a settled pile keep their cells, and
+        // then the grid's 30 000 entries are not copied)
         let proxies = &mut self.proxies;
         self.found_entries.clear();
+        self.recelled.clear();
         for &m in &self.moved {
             let p = &mut proxies[m as usize];
             if p.large {
                 continue; // the large pass tests it every step
             }
             let (lo, hi, _) = cell_span(&p.fat, inverse_cell);
-            p.low_cell = lo;
+            if (lo, hi) == (p.low_cell, p.high_cell) {
+                continue;
+            }
+            (p.low_cell, p.high_cell) = (lo, hi);
+            self.recelled.push(m);
             for x in lo[0]..=hi[0] {
                 for y in lo[1]..=hi[1] {
                     for z in lo[2]..=hi[2] {
@@ -304,12 +313,16 @@ impl BroadPhase {
                 }
             }
         }
-        self.found_entries.sort_unstable();
-        let moved = &self.moved_bits;
-        let (entries, found) = (&self.entries, &self.found_entries);
-        let kept = |&(_, i): &(u64, u32)| !moved.get(i);
-        merge_kept(entries, kept, found, &mut self.merged_entries, |_| {});
-        std::mem::swap(&mut self.entries, &mut self.merged_entries);
+        if !self.recelled.is_empty() {
+            self.found_entries.sort_unstable();
+            self.moved_bits.set(self.proxies.len(), &self.recelled);
+            let recelled = &self.moved_bits;
+            let (entries, found) = (&self.entries, &self.found_entries);
+            let kept = |&(_, i): &(u64, u32)| !recelled.get(i);
+            merge_kept(entries, kept, found, &mut self.merged_entries, |_| {});
+            std::mem::swap(&mut self.entries, &mut self.merged_entries);
+        }
+        self.moved_bits.set(self.proxies.len(), &self.moved);
         // the pairs: the moved bodies' dropped, found again in their new cells
         let proxies = &self.proxies;
         self.found.clear();
@@ -424,7 +437,7 @@ impl BroadPhase {
         self.entries.clear();
         for (index, proxy) in self.proxies.iter_mut().enumerate() {
             let (lo, hi, cells) = cell_span(&proxy.fat, inverse_cell);
-            proxy.low_cell = lo;
+            (proxy.low_cell, proxy.high_cell) = (lo, hi);
             proxy.large = cells > LARGE_CELLS;
             if proxy.large {
                 self.large.push(index as u32);
