@@ -82,6 +82,12 @@ impl Collider {
         self.position + self.orientation * local
     }
 
+    /// Body-space coordinates of a world point (the inverse of [`Self::world_point`]).
+    #[inline]
+    pub fn local_point(&self, world: Vec3) -> Vec3 {
+        self.orientation.inverse() * (world - self.position)
+    }
+
     /// Velocity (m/s) of the body's material at world `point`.
     #[inline]
     pub fn point_velocity(&self, point: Vec3) -> Vec3 {

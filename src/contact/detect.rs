@@ -284,8 +284,7 @@ impl PairContext<'_> {
         let previous = self.handover.of_pair(a, b);
         manifold::reduce(features, 0);
         for f in features.iter() {
-            let local_a = ca.orientation.inverse() * (f.point_a - ca.position);
-            let local_b = cb.orientation.inverse() * (f.point_b - cb.position);
+            let (local_a, local_b) = (ca.local_point(f.point_a), cb.local_point(f.point_b));
             let same = previous.clone().find(|p| p.id == f.id);
             let warm_impulse = same.map_or(0.0, |p| p.normal_impulse);
             let kept = same.filter(|p| p.sticking);

@@ -222,8 +222,7 @@ pub fn box_capsule(a: &Collider, half: Vec3, b: &Collider, margin: f32, out: &mu
     let Some((w0, w1, radius)) = b.segment() else {
         return;
     };
-    let to_local = |p: Vec3| a.orientation.inverse() * (p - a.position);
-    let (s0, s1) = (to_local(w0), to_local(w1));
+    let (s0, s1) = (a.local_point(w0), a.local_point(w1));
     // a capsule beyond one of the box's slabs by more than the margin makes no point (the
     // slack covers the rounding of the candidates' distances, a few ulps of the coordinates)
     if segment_box_gap(s0, s1, half) - radius > margin + BOX_GAP_SLACK {
@@ -244,7 +243,6 @@ fn box_segment_features(
     margin: f32,
     out: &mut Vec<Feature>,
 ) {
-    let to_local = |p: Vec3| a.orientation.inverse() * (p - a.position);
     let p = segment_point_nearest_box(s0, s1, half);
     let first = out.len();
     for (id, candidate) in (0..).zip([p, s0, s1]) {
@@ -253,7 +251,7 @@ fn box_segment_features(
         let on_b = candidate - radius * normal;
         let duplicate = out[first..]
             .iter()
-            .any(|f| (to_local(f.point_b) - on_b).length() < 0.01);
+            .any(|f| (a.local_point(f.point_b) - on_b).length() < 0.01);
         if separation < margin && !duplicate {
             out.push(Feature {
                 normal: a.orientation * normal,
@@ -282,8 +280,7 @@ fn box_capsule_gap(a: &Collider, half: Vec3, b: &Collider) -> f32 {
     let Some((w0, w1, radius)) = b.segment() else {
         return f32::NEG_INFINITY;
     };
-    let to_local = |p: Vec3| a.orientation.inverse() * (p - a.position);
-    segment_box_gap(to_local(w0), to_local(w1), half) - radius
+    segment_box_gap(a.local_point(w0), a.local_point(w1), half) - radius
 }
 
 /// A lower bound on the distance (m) between the surfaces of a pair that made no point

@@ -13,7 +13,7 @@
 //! [`narrowphase::capsule_gap`]: super::narrowphase::capsule_gap
 
 use super::collider::Collider;
-use crate::lanes::{not, Lane, Wide, V3};
+use crate::lanes::{not, padded, Lane, Wide, V3};
 use crate::math::Vec3;
 use crate::shape::Shape;
 
@@ -69,7 +69,7 @@ pub fn test_pairs(colliders: &[Collider], pairs: &[RoundPair], out: &mut Vec<Rou
 /// One batch of one to W pairs (lanes past the last repeat the first).
 #[inline(always)]
 fn test_batch<L: Lane>(colliders: &[Collider], batch: &[RoundPair], out: &mut Vec<RoundTest>) {
-    let pair = |i: usize| batch[if i < batch.len() { i } else { 0 }];
+    let pair = |i: usize| *padded(batch, i);
     let body = |i: usize, first: bool| {
         let p = pair(i);
         &colliders[if first { p.a } else { p.b } as usize]
