@@ -139,8 +139,9 @@ pub struct SweepArgs {
     /// default the scene's.
     #[arg(long, value_delimiter = ',', value_parser = clap::value_parser!(u32).range(..=10_000))]
     pub contact_extra_sweeps: Vec<u32>,
-    /// The rod spine's bend and twist, comma separated: sequential (the reference), block;
-    /// default the scene's. Other spines run once.
+    /// The rod spine's parts, comma separated: sequential (the reference), block (bend and
+    /// twist as one block, curve and length on shared frames); default the scene's. Other
+    /// spines run once.
     #[arg(long, value_delimiter = ',', value_parser = parse_choice::<BendTwist>)]
     pub bend_twist: Vec<BendTwist>,
     /// Worker threads of the solver; default rayon's (one per core).
@@ -249,8 +250,8 @@ pub struct OverrideArgs {
     /// Rod twist measure: exact or paper.
     #[arg(long, value_parser = parse_choice::<TwistMode>)]
     pub twist: Option<TwistMode>,
-    /// Rod bend and twist: sequential (one after the other, the default) or block (one 2x2
-    /// block from the same frames).
+    /// Rod parts: sequential (bend, twist, curve, length one after the other, the default) or
+    /// block (bend and twist as one 2x2 block, then curve and length from the same frames).
     #[arg(long, value_parser = parse_choice::<BendTwist>)]
     pub bend_twist: Option<BendTwist>,
     /// Record every N-th frame (frames 0, N, 2N, ...): a smaller file of a long run.

@@ -5,10 +5,10 @@
 //! ([`TwistMode::Exact`], [`LengthCorrection::Offset`]): soft bend (eq. 11), soft twist (eq.
 //! 12-13, the exact parallel-transport twist), hard curve (eq. 6, full gradient) and hard length
 //! (eq. 9, along the offset), in one function and in the scalar order, each part reading the
-//! frames the previous part left; bend and twist one after the other, or, on the lanes whose
-//! rod asks for [`BendTwist::Block`] and where both act, from the same frames as one 2x2 block
-//! (a batch with no such rod runs only the sequential code). Every branch of the scalar code is
-//! a mask:
+//! frames the previous part left; or, on the lanes whose rod asks for [`BendTwist::Block`], bend
+//! and twist from the same frames as one 2x2 block (where both act), and curve and length from
+//! the same frames (a batch with no such rod runs only the sequential code; a batch of block
+//! rods only the shared length). Every branch of the scalar code is a mask:
 //!
 //! - bend only where `alpha_b > 0` and `psi > 1e-7`; its axis `(t_a x t_b)^`, else
 //!   `any_perpendicular(t_a)`;
@@ -18,8 +18,9 @@
 //! - `relative_rotation` only where the turn is at least 1e-9 rad and `w > 0`;
 //! - curve: `o^` falls back to `t_a` where `|o| <= 1e-12`, `n` to `any_perpendicular(t_b)` where
 //!   `sin <= 1e-12`, `g_o = 0` where `|o| <= 1e-6`; corrected only where `C > 1e-7` and `w > 0`;
-//! - length: `chord_ratio`'s series where `|psi| < 1e-2`; `o^` falls back to `t_a`; corrected
-//!   only where `|C| > 1e-9` and `w > 0`;
+//! - length: `chord_ratio`'s series where `|psi| < 1e-2`; `o^` falls back to `t_a` (on the
+//!   block lanes, whose length shares the curve's `o^`, where `|o| <= 1e-12`); corrected only
+//!   where `|C| > 1e-9` and `w > 0`;
 //! - a body of zero inverse mass is not turned (as [`SolverBody::apply_angular_impulse`]), and
 //!   is never written back.
 //!
@@ -148,9 +149,13 @@ pub fn solve_rod_lanes<L: Lane>(row: &RodLanes<L>, a: &mut BodyLanes<L>, b: &mut
         bend_then_twist(row, a, b, seq_a, seq_b);
     }
 
-    // Hard curve (eq. 6), full gradient.
+    // Hard curve (eq. 6), full gradient; the block lanes' length on the same frames
     let (ta, tb) = tangents(row, a, b);
     let curve = curve_projection(a.position, ta, b.position, tb);
+    let shared = row.block.map(|block| {
+        let length = length_part(row, (curve.axis, curve.distance), ta, tb);
+        (block, length)
+    });
     // I^-1 theta once per body, for the effective mass and the turn
     let turn_a = a.inverse_inertia.mul_vec(curve.theta_a);
     let turn_b = b.inverse_inertia.mul_vec(curve.theta_b);
@@ -165,17 +170,58 @@ pub fn solve_rod_lanes<L: Lane>(row: &RodLanes<L>, a: &mut BodyLanes<L>, b: &mut
     a.rotate_preview_where(movable_a & active, turn_a.scale(lambda));
     b.rotate_preview_where(movable_b & active, turn_b.scale(lambda));
 
-    // Hard length (eq. 9), linear motion along o^ at fixed psi.
-    let (ta, tb) = tangents(row, a, b);
-    let offset = b.position - a.position;
-    let (axis, distance) = offset.normalize_or(ta, TRY_NORMALIZE_EPS);
-    let psi = ta.cross(tb).length().atan2(ta.dot(tb));
-    let c = distance - row.rest_length * chord_ratio(psi, ta, tb);
+    // Hard length (eq. 9), linear motion along o^ at fixed psi: measured on the frames the
+    // curve left, or on the block lanes on the curve's
+    let LengthLanes { error, axis } = match shared {
+        Some((block, shared)) if !not(block).any() => shared,
+        Some((block, shared)) => {
+            let left = length_on_frames_left(row, a, b);
+            LengthLanes {
+                error: block.select(shared.error, left.error),
+                axis: V3::select(block, shared.axis, left.axis),
+            }
+        }
+        None => length_on_frames_left(row, a, b),
+    };
     let w = a.inverse_mass + b.inverse_mass;
-    let active = c.abs().gt(L::splat(1e-9)) & w.gt(zero);
-    let lambda = active.select(c / w.max(L::splat(f32::MIN_POSITIVE)), zero);
+    let active = error.abs().gt(L::splat(1e-9)) & w.gt(zero);
+    let lambda = active.select(error / w.max(L::splat(f32::MIN_POSITIVE)), zero);
     move_by(a, active, axis.scale(lambda));
     move_by(b, active, axis.scale(-lambda));
+}
+
+/// The length error (eq. 9) and the direction o^ it is removed along.
+#[derive(Clone, Copy, Debug)]
+struct LengthLanes<L> {
+    error: L,
+    axis: V3<L>,
+}
+
+/// [`LengthLanes`] on the bodies' current frames and positions.
+#[inline(always)]
+fn length_on_frames_left<L: Lane>(
+    row: &RodLanes<L>,
+    a: &BodyLanes<L>,
+    b: &BodyLanes<L>,
+) -> LengthLanes<L> {
+    let (ta, tb) = tangents(row, a, b);
+    let offset = (b.position - a.position).normalize_or(ta, TRY_NORMALIZE_EPS);
+    length_part(row, offset, ta, tb)
+}
+
+/// [`LengthLanes`] given the offset's direction and length and the tangents.
+#[inline(always)]
+fn length_part<L: Lane>(
+    row: &RodLanes<L>,
+    (axis, distance): (V3<L>, L),
+    ta: V3<L>,
+    tb: V3<L>,
+) -> LengthLanes<L> {
+    let psi = ta.cross(tb).length().atan2(ta.dot(tb));
+    LengthLanes {
+        error: distance - row.rest_length * chord_ratio(psi, ta, tb),
+        axis,
+    }
 }
 
 /// Soft bend (eq. 11), then soft twist (eq. 12-13) on the frames the bend left
@@ -366,6 +412,10 @@ pub struct CurveLanes<L> {
     pub theta_a: V3<L>,
     /// Gradient with respect to body b's rotation vector, `-n`.
     pub theta_b: V3<L>,
+    /// The offset's direction o^ (`t_a` where `|o| <= 1e-12`).
+    pub axis: V3<L>,
+    /// The offset's length |o| (m).
+    pub distance: L,
 }
 
 /// [`super::rod::curve_projection`] per lane: the curve error (eq. 6) and its gradient, from
@@ -388,5 +438,7 @@ pub fn curve_projection<L: Lane>(pa: V3<L>, ta: V3<L>, pb: V3<L>, tb: V3<L>) -> 
         g_o,
         theta_a: reflect(n),
         theta_b: -n,
+        axis: o,
+        distance,
     }
 }

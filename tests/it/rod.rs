@@ -23,7 +23,7 @@ use rodlab::constraint::rod::{
     arc_point, chord_ratio, curve_error, curve_gradient, curve_vector, length_error, offset_axis,
     twist_exact, twist_paper,
 };
-use rodlab::constraint::{Constraint, LengthCorrection, Rod, RodParams};
+use rodlab::constraint::{BendTwist, Constraint, LengthCorrection, Rod, RodParams};
 use rodlab::math::{angle_between, quat_from_rotation_vector, Quat, Vec3};
 use rodlab::shape::{Axis, Shape};
 use rodlab::world::{Settings, World};
@@ -198,6 +198,13 @@ fn gradients_match_finite_differences() {
         let fd_len_a = central_gradient(h, |d| length_error(pa + d, ta, pb, tb, l0));
         worst = worst.max(assert_gradient("length dC/dp_b", o, fd_len_b));
         worst = worst.max(assert_gradient("length dC/dp_a", -o, fd_len_a));
+        // The curve's positional gradient is across o^: the block of curve and length (the
+        // paper's length moves along o^ only) is diagonal (`BendTwist::Block`).
+        let along = g.p_b.dot(o) / g.p_b.length();
+        assert!(
+            along.abs() < 1e-5,
+            "curve dC/dp_b . o^ = {along} of |dC/dp_b|"
+        );
 
         // Bend: d psi / d theta_b = (t_a x t_b) / |t_a x t_b|.
         let fd_bend = central_gradient(h, |d| angle_between(ta, turn(tb, d)));
@@ -366,12 +373,30 @@ const PROJECTION_ITERATIONS: usize = 10;
 
 #[test]
 fn perturbed_rod_returns_to_a_valid_arc() {
+    let worst = returns_to_a_valid_arc(BendTwist::Sequential);
+    eprintln!("iterations needed: at most {worst} (asserted {PROJECTION_ITERATIONS})");
+}
+
+/// The same with the rod's parts as blocks ([`BendTwist::Block`]): the length is measured on
+/// the frames the curve starts from, so it carries what the curve's turn changes of psi into
+/// the next iteration, yet the rod reaches a valid arc in as few iterations.
+#[test]
+fn perturbed_rod_returns_to_a_valid_arc_with_the_parts_as_blocks() {
+    let worst = returns_to_a_valid_arc(BendTwist::Block);
+    eprintln!("block: iterations needed: at most {worst} (asserted {PROJECTION_ITERATIONS})");
+}
+
+/// 50 random perturbations of the pelvis-chest rod (no bend or twist stiffness), each projected
+/// [`PROJECTION_ITERATIONS`] times; returns the most iterations any needed.
+fn returns_to_a_valid_arc(bend_twist: BendTwist) -> usize {
     let mut rng = Rng::new(0x5eed_0004);
     let mut worst_needed = 0;
+    let mut worst_left = 0.0f32;
     for trial in 0..50 {
         let (mut bodies, mut rod) = pelvis_chest();
         rod.params.alpha_bend = 0.0;
         rod.params.alpha_twist = 0.0;
+        rod.params.bend_twist = bend_twist;
         // Move the chest 2-3 cm and turn it 0.3 rad, both in random directions.
         let chest = &bodies[1];
         let shift = rng.range(0.02, 0.03) as f32 * rng.direction();
@@ -398,8 +423,7 @@ fn perturbed_rod_returns_to_a_valid_arc() {
             start.curve_error
         );
         // The perturbation was real, and the curve error falls at every iteration until it
-        // reaches the f32 floor (the length error is removed last in each iteration, so it is
-        // ~1e-8 after the first one).
+        // reaches the f32 floor.
         assert!(start.curve_error > 0.05 || start.length_error.abs() > 1e-3);
         for (k, pair) in history.windows(2).enumerate() {
             if pair[0].curve_error > 1e-5 {
@@ -411,9 +435,22 @@ fn perturbed_rod_returns_to_a_valid_arc() {
                 );
             }
         }
+        let left = history[1..]
+            .iter()
+            .map(|s| s.length_error.abs())
+            .fold(0.0, f32::max);
+        worst_left = worst_left.max(left);
+        // Sequentially the length error is removed last in each iteration, so it is ~1e-8
+        // after the first one. As blocks, what is left is what the curve's turn changed of
+        // psi (measured: at most 1.9 mm, from perturbations of 2-3 cm and 0.3 rad); without
+        // the length correction it would be centimetres.
+        let bound = match bend_twist {
+            BendTwist::Sequential => 1e-5,
+            BendTwist::Block => 5e-3,
+        };
         assert!(
-            history[1..].iter().all(|s| s.length_error.abs() < 1e-5),
-            "trial {trial}: length error not removed by each iteration"
+            left < bound,
+            "trial {trial}: length error {left:.3e} m left by an iteration"
         );
         let needed = history
             .iter()
@@ -421,7 +458,8 @@ fn perturbed_rod_returns_to_a_valid_arc() {
             .unwrap();
         worst_needed = worst_needed.max(needed);
     }
-    eprintln!("iterations needed: at most {worst_needed} (asserted {PROJECTION_ITERATIONS})");
+    eprintln!("{bend_twist:?}: largest length error after an iteration {worst_left:.3e} m");
+    worst_needed
 }
 
 // ---------------------------------------------------------------------------------------------

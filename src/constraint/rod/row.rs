@@ -196,12 +196,20 @@ impl RodRow {
         }
     }
 
-    /// The hard curve (eq. 6) and length (eq. 9).
+    /// The hard curve (eq. 6) and length (eq. 9): the length measured on the frames the curve
+    /// left, or, with [`BendTwist::Block`] and the paper's [`LengthCorrection::Offset`], on the
+    /// same frames as the curve (their block is diagonal: see [`BendTwist::Block`]).
     fn curve_and_length(&mut self, a: &mut SolverBody, b: &mut SolverBody) {
-        // Hard curve (eq. 6), full gradient.
         let (fa, fb) = (a.orientation * self.frame_a, b.orientation * self.frame_b);
         let (ta, tb) = (fa * Vec3::X, fb * Vec3::X);
         let (pa, pb) = (a.position, b.position);
+        let shared = self.bend_twist == BendTwist::Block
+            && self.length_correction == LengthCorrection::Offset;
+        let length = shared.then(|| {
+            let c = length_error(pa, ta, pb, tb, self.rest_length);
+            (c, offset_axis(pa, pb, ta))
+        });
+        // Hard curve (eq. 6), full gradient.
         let (c, g) = curve_projection(pa, ta, pb, tb);
         if c > 1e-7 {
             let w = (a.inverse_mass + b.inverse_mass) * g.p_b.length_squared()
@@ -216,11 +224,14 @@ impl RodRow {
             }
         }
         // Hard length (eq. 9), linear motion along o^ at fixed psi.
-        self.solve_length(a, b);
+        match length {
+            Some((c, axis)) => correct_length(a, b, c, axis, Vec3::ZERO),
+            None => self.solve_length(a, b),
+        }
     }
 
-    /// The hard length part of [`RodRow::solve`] (eq. 9): linear motion along o^ at fixed psi
-    /// (plus the turn through psi with [`LengthCorrection::Gradient`]).
+    /// The hard length part of [`RodRow::solve`] (eq. 9) on the current frames: linear motion
+    /// along o^ at fixed psi (plus the turn through psi with [`LengthCorrection::Gradient`]).
     fn solve_length(&self, a: &mut SolverBody, b: &mut SolverBody) {
         let (fa, fb) = (a.orientation * self.frame_a, b.orientation * self.frame_b);
         let (ta, tb) = (fa * Vec3::X, fb * Vec3::X);
@@ -235,18 +246,24 @@ impl RodRow {
                 -self.rest_length * chord_ratio_derivative(angle_between(ta, tb)) * bend_axis
             }
         };
-        let w = a.inverse_mass
-            + b.inverse_mass
-            + a.angular_inverse_mass(g_theta_b)
-            + b.angular_inverse_mass(g_theta_b);
-        if c.abs() > 1e-9 && w > 0.0 {
-            let lambda = c / w;
-            a.apply_linear_impulse(lambda * axis);
-            b.apply_linear_impulse(-lambda * axis);
-            if g_theta_b != Vec3::ZERO {
-                a.apply_angular_impulse(lambda * g_theta_b);
-                b.apply_angular_impulse(-lambda * g_theta_b);
-            }
+        correct_length(a, b, c, axis, g_theta_b);
+    }
+}
+
+/// Removes the length error `c` (eq. 9) by linear motion along the offset direction `axis`, and
+/// turns through psi along `g_theta_b` (zero for the paper's correction).
+fn correct_length(a: &mut SolverBody, b: &mut SolverBody, c: f32, axis: Vec3, g_theta_b: Vec3) {
+    let w = a.inverse_mass
+        + b.inverse_mass
+        + a.angular_inverse_mass(g_theta_b)
+        + b.angular_inverse_mass(g_theta_b);
+    if c.abs() > 1e-9 && w > 0.0 {
+        let lambda = c / w;
+        a.apply_linear_impulse(lambda * axis);
+        b.apply_linear_impulse(-lambda * axis);
+        if g_theta_b != Vec3::ZERO {
+            a.apply_angular_impulse(lambda * g_theta_b);
+            b.apply_angular_impulse(-lambda * g_theta_b);
         }
     }
 }
