@@ -140,6 +140,56 @@ pub(super) fn sort_pairs(
     pass(scratch, pairs, |p| p.0);
 }
 
+/// Sorts the grid's `(cell key, proxy)` entries as `sort_unstable` would (they are distinct)
+/// by one stable counting pass over their cells, numbered in key order, when the cells the
+/// entries lie in (`low..=high` per axis) are at most a few per entry; returns false, with
+/// nothing done, otherwise. Within a cell the entries must come in proxy order, as
+/// `enter_cells` writes them. The landing rain's rebuilds sort 33 000 entries, which took
+/// 0.6 ms on two threads with the comparison sort. `scratch` and `counts` are reused storage.
+pub(super) fn sort_entries(
+    entries: &mut Vec<(u64, u32)>,
+    (low, high): ([i64; 3], [i64; 3]),
+    scratch: &mut Vec<(u64, u32)>,
+    counts: &mut Vec<u32>,
+) -> bool {
+    let size = |k: usize| (high[k] - low[k] + 1).max(1) as u64;
+    let cells = size(0).saturating_mul(size(1)).saturating_mul(size(2));
+    if cells > 4 * entries.len() as u64 + 1024 {
+        return false;
+    }
+    // an axis's key field is its cell coordinate masked: a span across 0 is two runs of field
+    // values, the non-negative cells first
+    let rank = |key: u64, k: usize| {
+        let field = key >> (42 - 21 * k) & KEY_MASK;
+        let (first, last) = (low[k] as u64 & KEY_MASK, high[k] as u64 & KEY_MASK);
+        match (first <= last, field <= last) {
+            (true, _) => field - first,
+            (false, true) => field,
+            (false, false) => field - first + last + 1,
+        }
+    };
+    let cell = |&(key, _): &(u64, u32)| {
+        ((rank(key, 0) * size(1) + rank(key, 1)) * size(2) + rank(key, 2)) as usize
+    };
+    counts.clear();
+    counts.resize(cells as usize + 1, 0);
+    for entry in entries.iter() {
+        counts[cell(entry) + 1] += 1;
+    }
+    for c in 0..cells as usize {
+        counts[c + 1] += counts[c];
+    }
+    scratch.clear();
+    scratch.resize(entries.len(), (0, 0));
+    for entry in entries.iter() {
+        let at = &mut counts[cell(entry)];
+        scratch[*at as usize] = *entry;
+        *at += 1;
+    }
+    std::mem::swap(entries, scratch);
+    true
+}
+
 /// One bit per proxy: which moved this step (a few hundred of 11 000 in a settled pile), read
 /// for every grid entry and pair; 1.4 kB for the rain's bodies, where the proxies' own flags
 /// are 0.7 MB apart.
@@ -209,6 +259,48 @@ mod tests {
         let (mut scratch, mut counts) = (Vec::new(), Vec::new());
         sort_pairs(&mut pairs, n, &mut scratch, &mut counts);
         assert_eq!(pairs, sorted);
+    }
+
+    /// Boxes over cells on both sides of 0 on every axis, entered as `enter_cells` enters
+    /// them: the counting sort gives the comparison sort's order.
+    #[test]
+    fn sort_entries_orders_as_the_comparison_sort() {
+        let mut state = 99u64;
+        let mut next = move |n: u64| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state % n
+        };
+        let mut entries = Vec::new();
+        let (mut low, mut high) = ([i64::MAX; 3], [i64::MIN; 3]);
+        for index in 0..3000u32 {
+            let lo = [0, 1, 2].map(|_| next(40) as i64 - 20);
+            let hi = lo.map(|c| c + next(3) as i64);
+            for k in 0..3 {
+                (low[k], high[k]) = (low[k].min(lo[k]), high[k].max(hi[k]));
+            }
+            for x in lo[0]..=hi[0] {
+                for y in lo[1]..=hi[1] {
+                    for z in lo[2]..=hi[2] {
+                        entries.push((key([x, y, z]), index));
+                    }
+                }
+            }
+        }
+        let mut sorted = entries.clone();
+        sorted.sort_unstable();
+        let (mut scratch, mut counts) = (Vec::new(), Vec::new());
+        assert!(sort_entries(
+            &mut entries,
+            (low, high),
+            &mut scratch,
+            &mut counts
+        ));
+        assert_eq!(entries, sorted);
+        // cells spread far apart: left to the comparison sort
+        let far = ([0, 0, 0], [1 << 18, 1 << 18, 0]);
+        assert!(!sort_entries(&mut entries, far, &mut scratch, &mut counts));
     }
 
     #[test]

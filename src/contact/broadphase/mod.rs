@@ -53,7 +53,7 @@ use super::collider::{Collider, PARALLEL_BODIES};
 use crate::body::BodyKind;
 use crate::math::Vec3;
 use crate::shape::Shape;
-use grid::{cell_span, key, merge_kept, sort_pairs, Aabb, Bits, KEY_MASK};
+use grid::{cell_span, key, merge_kept, sort_entries, sort_pairs, Aabb, Bits, KEY_MASK};
 pub use joined::Joined;
 
 /// How much larger than its tight box (m, each side) a body's fat box is: a body resting or
@@ -109,6 +109,9 @@ const REBUILD_MOVED: usize = 16;
 
 /// Entries from which the sort runs on several threads.
 const PARALLEL_SORT: usize = 32_768;
+
+/// Entries from which the grid is sorted by counting over its cells ([`sort_entries`]).
+const COUNTED_SORT: usize = 4096;
 
 /// The grid's cell edge over the movable bodies' mean largest box half-size (measured on the
 /// 1000-ragdoll rain: 3 to 6 within a few per cent of each other).
@@ -435,6 +438,8 @@ impl BroadPhase {
 
         self.large.clear();
         self.entries.clear();
+        // the cells the entries lie in, per axis
+        let (mut low, mut high) = ([i64::MAX; 3], [i64::MIN; 3]);
         for (index, proxy) in self.proxies.iter_mut().enumerate() {
             let (lo, hi, cells) = cell_span(&proxy.fat, inverse_cell);
             (proxy.low_cell, proxy.high_cell) = (lo, hi);
@@ -442,6 +447,9 @@ impl BroadPhase {
             if proxy.large {
                 self.large.push(index as u32);
                 continue;
+            }
+            for k in 0..3 {
+                (low[k], high[k]) = (low[k].min(lo[k]), high[k].max(hi[k]));
             }
             for x in lo[0]..=hi[0] {
                 for y in lo[1]..=hi[1] {
@@ -451,12 +459,16 @@ impl BroadPhase {
                 }
             }
         }
-        // (cell, proxy) entries are unique, so any sort gives the same order: a parallel one for
-        // large worlds (about 33 000 entries in the 1000-ragdoll rain)
-        if self.entries.len() >= PARALLEL_SORT && rayon::current_num_threads() > 1 {
+        // (cell, proxy) entries are unique, so any sort gives the same order: one counting pass
+        // over the cells for large worlds (about 33 000 entries in the 1000-ragdoll rain) whose
+        // cells are not too spread out, else a comparison sort (parallel when large)
+        let (scratch, counts) = (&mut self.merged_entries, &mut self.counts);
+        let counted = self.entries.len() >= COUNTED_SORT
+            && sort_entries(&mut self.entries, (low, high), scratch, counts);
+        if !counted && self.entries.len() >= PARALLEL_SORT && rayon::current_num_threads() > 1 {
             use rayon::slice::ParallelSliceMut;
             self.entries.par_sort_unstable();
-        } else {
+        } else if !counted {
             self.entries.sort_unstable();
         }
     }
