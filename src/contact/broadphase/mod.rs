@@ -53,7 +53,7 @@ use super::collider::{Collider, PARALLEL_BODIES};
 use crate::body::BodyKind;
 use crate::math::Vec3;
 use crate::shape::Shape;
-use grid::{cell_span, key, merge_kept, sort_entries, sort_pairs, Aabb, Bits, KEY_MASK};
+use grid::{cell_span, key, merge_kept, sort_entries, sort_pairs, Aabb, Bits, Run, KEY_MASK};
 pub use joined::Joined;
 
 /// How much larger than its tight box (m, each side) a body's fat box is: a body resting or
@@ -167,6 +167,8 @@ pub struct BroadPhase {
     moved_bits: Bits,
     /// Scratch: the moved proxies' new grid entries, and the merge.
     found_entries: Vec<(u64, u32)>,
+    /// Scratch: the cells the moved proxies' fat boxes cover, `(cell key, proxy)`, sorted.
+    queries: Vec<(u64, u32)>,
     merged_entries: Vec<(u64, u32)>,
     /// Body pairs never paired ([`Joined`]), and whether they changed since the last rebuild.
     joined: Joined,
@@ -326,9 +328,11 @@ impl BroadPhase {
             std::mem::swap(&mut self.entries, &mut self.merged_entries);
         }
         self.moved_bits.set(self.proxies.len(), &self.moved);
-        // the pairs: the moved bodies' dropped, found again in their new cells
+        // the pairs: the moved bodies' dropped, found again in their new cells, the cells
+        // looked up in key order, each from where the last was found (a binary search over
+        // the grid per cell was a third of this update)
         let proxies = &self.proxies;
-        self.found.clear();
+        self.queries.clear();
         for &m in &self.moved {
             let a = &proxies[m as usize];
             if a.large {
@@ -338,27 +342,33 @@ impl BroadPhase {
             for x in lo[0]..=hi[0] {
                 for y in lo[1]..=hi[1] {
                     for z in lo[2]..=hi[2] {
-                        let cell = key([x, y, z]);
-                        let first = self.entries.partition_point(|&(k, _)| k < cell);
-                        for &(k, i) in &self.entries[first..] {
-                            if k != cell {
-                                break;
-                            }
-                            let b = &proxies[i as usize];
-                            // itself, or a moved body that reports the pair (the lower one)
-                            if i == m || (b.moved && i < m) {
-                                continue;
-                            }
-                            if !a.flags.may_touch(b.flags) || !a.fat.overlaps(&b.fat) {
-                                continue;
-                            }
-                            // reported from the cell of the overlap's lower corner only
-                            let corner = [0, 1, 2].map(|k| a.low_cell[k].max(b.low_cell[k]));
-                            if key(corner) == cell && !self.joined.contains(a.body, b.body) {
-                                self.found.push((m.min(i), m.max(i)));
-                            }
-                        }
+                        self.queries.push((key([x, y, z]), m));
                     }
+                }
+            }
+        }
+        self.queries.sort_unstable();
+        self.found.clear();
+        let mut first = 0;
+        for &(cell, m) in &self.queries {
+            first = gallop(&self.entries, first, cell);
+            let a = &proxies[m as usize];
+            for &(k, i) in &self.entries[first..] {
+                if k != cell {
+                    break;
+                }
+                let b = &proxies[i as usize];
+                // itself, or a moved body that reports the pair (the lower one)
+                if i == m || (b.moved && i < m) {
+                    continue;
+                }
+                if !a.flags.may_touch(b.flags) || !a.fat.overlaps(&b.fat) {
+                    continue;
+                }
+                // reported from the cell of the overlap's lower corner only
+                let corner = [0, 1, 2].map(|k| a.low_cell[k].max(b.low_cell[k]));
+                if key(corner) == cell && !self.joined.contains(a.body, b.body) {
+                    self.found.push((m.min(i), m.max(i)));
                 }
             }
         }
@@ -369,9 +379,16 @@ impl BroadPhase {
         let (pairs, bounds) = (&self.fat_pairs, &self.gaps);
         let new_bounds = &mut self.old_gaps;
         new_bounds.clear();
-        merge_kept(pairs, kept, &self.found, &mut self.merged, |from| {
-            new_bounds.push(from.map_or(gaps::UNKNOWN, |i| bounds[i]))
-        });
+        merge_kept(
+            pairs,
+            kept,
+            &self.found,
+            &mut self.merged,
+            |run| match run {
+                Run::Old(range) => new_bounds.extend_from_slice(&bounds[range]),
+                Run::Found => new_bounds.push(gaps::UNKNOWN),
+            },
+        );
         std::mem::swap(&mut self.fat_pairs, &mut self.merged);
         std::mem::swap(&mut self.gaps, &mut self.old_gaps);
         true
@@ -491,6 +508,19 @@ impl BroadPhase {
             self.chunk_pairs.resize_with(chunks, ChunkPairs::default);
         }
     }
+}
+
+/// The first place at or after `from` in the sorted `entries` whose key is not below `cell`:
+/// a doubling search from `from`, then a binary search in the last step's span (the cells
+/// looked up in key order are mostly near each other).
+fn gallop(entries: &[(u64, u32)], from: usize, cell: u64) -> usize {
+    let mut step = 1;
+    while from + step < entries.len() && entries[from + step].0 < cell {
+        step *= 2;
+    }
+    let (low, high) = (from + step / 2, (from + step + 1).min(entries.len()));
+    let low = low.min(high);
+    low + entries[low..high].partition_point(|&(k, _)| k < cell)
 }
 
 /// The pairs of one run of `entries` (whole cells): each cell's boxes swept along x, each

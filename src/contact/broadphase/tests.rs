@@ -289,3 +289,19 @@ fn chunked_cells_give_the_same_pairs_on_any_thread_count() {
     unique.dedup();
     assert_eq!(unique.len(), one.len(), "a pair was reported twice");
 }
+
+/// The doubling search finds what a binary search over the rest finds, from every start.
+#[test]
+fn gallop_is_a_binary_search_from_its_start() {
+    let entries: Vec<(u64, u32)> = (0..300u32).map(|i| ((i / 3 * 2) as u64, i)).collect();
+    for from in 0..=entries.len() {
+        for cell in 0..205u64 {
+            let expected = from + entries[from..].partition_point(|&(k, _)| k < cell);
+            assert_eq!(
+                gallop(&entries, from, cell),
+                expected,
+                "from {from}, cell {cell}"
+            );
+        }
+    }
+}
