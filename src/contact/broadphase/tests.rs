@@ -1,6 +1,7 @@
 //! The broad phase against brute force: exactly the overlapping pairs, none culled that has
 //! a contact, kept pairs equal to a fresh grid, and the same pairs on any thread count.
 
+use super::moved::gallop;
 use super::*;
 use crate::body::Body;
 use crate::math::{Quat, Vec3};
