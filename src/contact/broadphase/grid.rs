@@ -64,6 +64,18 @@ pub(super) fn key(cell: [i64; 3]) -> u64 {
     (field(cell[0]) << 42) | (field(cell[1]) << 21) | field(cell[2])
 }
 
+/// Calls `each` with the key of every cell `lo..=hi` (per axis), x slowest and z fastest.
+#[inline]
+pub(super) fn for_each_cell(lo: [i64; 3], hi: [i64; 3], mut each: impl FnMut(u64)) {
+    for x in lo[0]..=hi[0] {
+        for y in lo[1]..=hi[1] {
+            for z in lo[2]..=hi[2] {
+                each(key([x, y, z]));
+            }
+        }
+    }
+}
+
 /// The cells a box covers, per axis, and how many.
 pub(super) fn cell_span(aabb: &Aabb, inverse_cell: f32) -> ([i64; 3], [i64; 3], i64) {
     let lo = aabb.min.map(|x| cell_of(x, inverse_cell));
@@ -346,13 +358,7 @@ mod tests {
             for k in 0..3 {
                 (low[k], high[k]) = (low[k].min(lo[k]), high[k].max(hi[k]));
             }
-            for x in lo[0]..=hi[0] {
-                for y in lo[1]..=hi[1] {
-                    for z in lo[2]..=hi[2] {
-                        entries.push((key([x, y, z]), index));
-                    }
-                }
-            }
+            for_each_cell(lo, hi, |cell| entries.push((cell, index)));
         }
         let mut sorted = entries.clone();
         sorted.sort_unstable();

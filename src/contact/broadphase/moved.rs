@@ -2,7 +2,7 @@
 //! 50-90 of its 11 000 bodies a step): their entries and pairs replaced, the rest copied
 //! in runs.
 
-use super::grid::{cell_span, key, merge_kept, Run};
+use super::grid::{cell_span, for_each_cell, key, merge_kept, Run};
 use super::{gaps, BroadPhase, LARGE_CELLS, REBUILD_MOVED};
 
 impl BroadPhase {
@@ -39,13 +39,8 @@ impl BroadPhase {
             }
             (p.low_cell, p.high_cell) = (lo, hi);
             self.recelled.push(m);
-            for x in lo[0]..=hi[0] {
-                for y in lo[1]..=hi[1] {
-                    for z in lo[2]..=hi[2] {
-                        self.found_entries.push((key([x, y, z]), m));
-                    }
-                }
-            }
+            let found = &mut self.found_entries;
+            for_each_cell(lo, hi, |cell| found.push((cell, m)));
         }
         if !self.recelled.is_empty() {
             self.found_entries.sort_unstable();
@@ -67,14 +62,9 @@ impl BroadPhase {
             if a.large {
                 continue;
             }
-            let (lo, hi, _) = cell_span(&a.fat, inverse_cell);
-            for x in lo[0]..=hi[0] {
-                for y in lo[1]..=hi[1] {
-                    for z in lo[2]..=hi[2] {
-                        self.queries.push((key([x, y, z]), m));
-                    }
-                }
-            }
+            // its cells, entered just above when they changed
+            let queries = &mut self.queries;
+            for_each_cell(a.low_cell, a.high_cell, |cell| queries.push((cell, m)));
         }
         self.queries.sort_unstable();
         self.found.clear();

@@ -2,7 +2,7 @@
 //! joined): the entries sorted by cell, each cell's boxes swept along x on several threads, the
 //! pairs sorted and their gap bounds carried over.
 
-use super::grid::{cell_span, key, sort_entries, sort_pairs, KEY_MASK};
+use super::grid::{cell_span, for_each_cell, sort_entries, sort_pairs, KEY_MASK};
 use super::{gaps, BroadPhase, CellBox, ChunkPairs, Joined, Proxy};
 use super::{CELL_FACTOR, COUNTED_SORT, LARGE_CELLS, PARALLEL_SORT};
 
@@ -81,13 +81,8 @@ impl BroadPhase {
             for k in 0..3 {
                 (low[k], high[k]) = (low[k].min(lo[k]), high[k].max(hi[k]));
             }
-            for x in lo[0]..=hi[0] {
-                for y in lo[1]..=hi[1] {
-                    for z in lo[2]..=hi[2] {
-                        self.entries.push((key([x, y, z]), index as u32));
-                    }
-                }
-            }
+            let entries = &mut self.entries;
+            for_each_cell(lo, hi, |cell| entries.push((cell, index as u32)));
         }
         // (cell, proxy) entries are unique, so any sort gives the same order: one counting pass
         // over the cells for large worlds (about 33 000 entries in the 1000-ragdoll rain) whose
