@@ -2,7 +2,7 @@
 //! group its bodies live in [`crate::lab::Lab`]).
 
 use crate::body::{Body, BodyId};
-use crate::constraint::Constraint;
+use crate::constraint::{Constraint, Constraints};
 use crate::contact::{ContactPoint, Contacts};
 use crate::sleep::Islands;
 use crate::solver::Solver;
@@ -19,7 +19,7 @@ pub struct World {
     /// The bodies, indexed by [`BodyId`].
     pub bodies: Vec<Body>,
     /// The joints and rods, by the index [`World::add_constraint`] returns.
-    pub constraints: Vec<Constraint>,
+    pub constraints: Constraints,
     /// The contact points and the storage to find them.
     pub contacts: Contacts,
     /// The solver's reused per-step storage (hot bodies, rows per kind, colours).

@@ -8,6 +8,7 @@ pub mod ball_socket;
 pub mod ball_socket_lanes;
 pub mod damper;
 pub mod limits;
+mod list;
 pub mod parts;
 pub mod rod;
 pub mod rod_lanes;
@@ -15,6 +16,7 @@ pub mod rod_lanes;
 pub use ball_socket::{AngularSpring, BallSocket, JointFlavour, JointRow};
 pub use damper::{DamperRow, JointDamping};
 pub use limits::AngularLimit;
+pub use list::Constraints;
 pub use rod::{
     BendTwist, LengthCorrection, Rod, RodParams, RodRow, RodState, Stiffness, TwistMode,
 };

@@ -168,3 +168,104 @@ fn drop_is_bit_identical_on_one_and_two_threads() {
         );
     }
 }
+
+/// Step 2 keeps the joints', rods' and dampers' rows, their colours and the joints' lanes from
+/// frame to frame while the constraints and the bodies' sleep states stay the same. Kept, or
+/// prepared afresh every frame, the rod drop at rest (exact joints, joint damping, SIMD,
+/// sleeping) gives the same bits: through the frame where the whole pile falls asleep, a
+/// rename of a constraint while it sleeps (rows prepared again, none movable), and a kick to
+/// one body that wakes it (rows kept from the sleeping pile would leave the woken joints out).
+#[test]
+fn rows_kept_from_frame_to_frame_give_the_bits_of_rows_prepared_afresh() {
+    use rodlab::constraint::Constraint;
+    use rodlab::ragdoll::SpineKind;
+    use rodlab::sim::Overrides;
+    let mut scene = scene("ragdoll_drop").variant("at_rest").unwrap();
+    Overrides {
+        spine: Some(SpineKind::Rod),
+        ..Default::default()
+    }
+    .apply(&mut scene.def);
+    assert!(scene.def.sleep && scene.def.joint_damping > 0.0);
+    let mut kept = scene.build().unwrap().world;
+    let mut afresh = kept.clone();
+    let (mut all_asleep, mut kicked) = (None, None);
+    for frame in 0..600 {
+        // a rename while the pile sleeps: the rows are prepared again, none of them movable
+        if all_asleep.is_some_and(|f| frame == f + 10) {
+            for world in [&mut kept, &mut afresh] {
+                match &mut world.constraints[0] {
+                    Constraint::Rod(rod) => rod.name.push_str(" (renamed)"),
+                    Constraint::BallSocket(joint) => joint.name.push_str(" (renamed)"),
+                }
+            }
+        }
+        if all_asleep.is_some_and(|f| frame == f + 20) {
+            for world in [&mut kept, &mut afresh] {
+                world.bodies[5].linear_velocity = rodlab::math::Vec3::new(0.0, 3.0, 0.0);
+            }
+            kicked = Some(frame);
+        }
+        kept.step().unwrap();
+        afresh.solver.clear_prepared();
+        afresh.step().unwrap();
+        assert_eq!(
+            kept.state_hash(),
+            afresh.state_hash(),
+            "frame {frame}: the kept rows gave other bits"
+        );
+        if kept.awake_bodies == 0 && all_asleep.is_none() {
+            all_asleep = Some(frame);
+        }
+        if kicked.is_some_and(|f| frame == f + 2) {
+            assert!(
+                kept.awake_bodies > 10,
+                "the kick woke {} bodies",
+                kept.awake_bodies
+            );
+            return;
+        }
+    }
+    panic!("the pile never fell asleep (at {all_asleep:?}) and woke: the test saw no change");
+}
+
+/// A constraint edited between steps takes effect at the next step: editing it draws a new
+/// stamp ([`rodlab::constraint::Constraints`]), so step 2 does not reuse the old rows. A
+/// pendulum's joint is moved 10 cm down the bob after 20 frames; the run matches one that
+/// prepares its rows afresh, and differs from one without the edit.
+#[test]
+fn a_constraint_edited_between_steps_takes_effect_at_the_next_step() {
+    use rodlab::body::{Body, BodyKind};
+    use rodlab::constraint::{BallSocket, Constraint};
+    use rodlab::math::{Quat, Vec3};
+    use rodlab::shape::Shape;
+    use rodlab::world::Settings;
+    let mut world = World::new(Settings::default());
+    let sphere = |radius| Shape::Sphere { radius };
+    let pivot = Vec3::new(0.0, 2.0, 0.0);
+    let fixed = Body::new("pivot", BodyKind::Fixed, sphere(0.02), 1.0);
+    let fixed = world.add_body(fixed.with_pose(pivot, Quat::IDENTITY));
+    let bob = Body::new("bob", BodyKind::Dynamic, sphere(0.05), 1.0);
+    let bob_at = pivot + Vec3::new(0.4, -0.3, 0.0);
+    let bob = world.add_body(bob.with_pose(bob_at, Quat::IDENTITY));
+    let bodies = &world.bodies;
+    let joint = BallSocket::at_world_anchor("hinge", bodies, fixed, bob, pivot, Quat::IDENTITY);
+    world.add_constraint(joint);
+    for _ in 0..20 {
+        world.step().unwrap();
+    }
+    let mut unedited = world.clone();
+    if let Constraint::BallSocket(joint) = &mut world.constraints[0] {
+        joint.local_anchor_b += Vec3::new(0.0, 0.1, 0.0);
+    }
+    let mut afresh = world.clone();
+    for _ in 0..20 {
+        world.step().unwrap();
+        unedited.step().unwrap();
+        afresh.solver.clear_prepared();
+        afresh.step().unwrap();
+    }
+    assert_eq!(world.state_hash(), afresh.state_hash());
+    let moved = world.bodies[bob.index()].position - unedited.bodies[bob.index()].position;
+    assert!(moved.length() > 0.05, "the edit moved the bob by {moved}");
+}

@@ -1,0 +1,109 @@
+//! The world's constraint list, stamped so caches built from it know when it changed.
+//!
+//! The solver prepares the joints' and rods' rows, colours them and packs them into lanes
+//! every frame, though in a running scene they change only when the user edits a constraint or
+//! a body wakes or sleeps. [`Constraints`] hands out a new [`Constraints::stamp`] on every
+//! mutable borrow, so a cache keyed by the stamp (and the bodies' sleep states) is rebuilt
+//! exactly when it may be stale. A stamp is drawn from one counter for the whole process: two
+//! lists share a stamp only when one is a clone of the other, unchanged since.
+
+use super::Constraint;
+use std::ops::{Deref, DerefMut};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// The next stamp to hand out.
+static NEXT_STAMP: AtomicU64 = AtomicU64::new(1);
+
+fn fresh_stamp() -> u64 {
+    NEXT_STAMP.fetch_add(1, Ordering::Relaxed)
+}
+
+/// The joints and rods of a world: a `Vec<Constraint>` to read and write (through `Deref`),
+/// whose every mutable borrow draws a new stamp.
+#[derive(Clone, Debug)]
+pub struct Constraints {
+    list: Vec<Constraint>,
+    stamp: u64,
+}
+
+impl Constraints {
+    /// An identifier of the list's contents: equal stamps mean equal lists.
+    pub fn stamp(&self) -> u64 {
+        self.stamp
+    }
+}
+
+impl Default for Constraints {
+    fn default() -> Self {
+        Vec::new().into()
+    }
+}
+
+impl From<Vec<Constraint>> for Constraints {
+    fn from(list: Vec<Constraint>) -> Self {
+        Constraints {
+            list,
+            stamp: fresh_stamp(),
+        }
+    }
+}
+
+impl Deref for Constraints {
+    type Target = Vec<Constraint>;
+    fn deref(&self) -> &Vec<Constraint> {
+        &self.list
+    }
+}
+
+impl DerefMut for Constraints {
+    /// Any mutable borrow may change the list: it gets a new stamp.
+    fn deref_mut(&mut self) -> &mut Vec<Constraint> {
+        self.stamp = fresh_stamp();
+        &mut self.list
+    }
+}
+
+impl<'a> IntoIterator for &'a Constraints {
+    type Item = &'a Constraint;
+    type IntoIter = std::slice::Iter<'a, Constraint>;
+    fn into_iter(self) -> Self::IntoIter {
+        self.list.iter()
+    }
+}
+
+impl<'a> IntoIterator for &'a mut Constraints {
+    type Item = &'a mut Constraint;
+    type IntoIter = std::slice::IterMut<'a, Constraint>;
+    fn into_iter(self) -> Self::IntoIter {
+        self.deref_mut().iter_mut()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_mutable_borrow_draws_a_new_stamp_and_clones_share_theirs() {
+        let mut list = Constraints::default();
+        let first = list.stamp();
+        let _ = list.len();
+        assert_eq!(list.stamp(), first, "reading keeps the stamp");
+        let copy = list.clone();
+        assert_eq!(
+            copy.stamp(),
+            first,
+            "an unchanged clone has the same contents"
+        );
+        list.clear();
+        assert_ne!(list.stamp(), first, "a mutable borrow may have changed it");
+        for _ in &mut list {}
+        let after_loop = list.stamp();
+        assert_ne!(after_loop, first);
+        assert_ne!(
+            Constraints::default().stamp(),
+            after_loop,
+            "a new list has its own"
+        );
+    }
+}
