@@ -128,7 +128,7 @@ fn pressed_contacts() -> (Vec<SolverBody>, Vec<ContactPoint>) {
         bodies.push(upper);
     }
     let mut contacts = Contacts::default();
-    contacts.detect(&bodies, &[], 1.0 / 60.0, 0.02);
+    contacts.detect(&bodies, &Default::default(), 1.0 / 60.0, 0.02);
     let (soft, stacking) = (Softness::default(), Stacking::default());
     contacts.begin_substep(&bodies, 1.0 / 60.0, f32::INFINITY, soft, stacking);
     let mut points = contacts.points.clone();

@@ -17,7 +17,7 @@ use super::handover::Handover;
 use super::round_lanes::{self, round_radius, RoundPair, RoundTest};
 use super::{manifold, narrowphase, ContactPoint, PARALLEL_PAIRS};
 use crate::body::{Body, BodyId};
-use crate::constraint::Constraint;
+use crate::constraint::{Constraint, Constraints};
 
 /// What detection keeps from step to step (reused storage, and the broad phase's pairs).
 #[derive(Clone, Debug, Default)]
@@ -32,8 +32,9 @@ pub struct Detection {
     /// The candidate pairs after the broad phase's kept ones ([`BroadPhase::report_others`]).
     others: Vec<(u32, u32)>,
     chunks: Vec<ChunkOut>,
-    /// The constraint and body counts the broad phase's [`Joined`] pairs were built for.
-    joined_for: Option<(usize, usize)>,
+    /// The constraints ([`Constraints::stamp`]) and body count the broad phase's [`Joined`]
+    /// pairs were built for.
+    joined_for: Option<(u64, usize)>,
     /// Pairs the gap bounds skipped at the last detection.
     skipped: usize,
 }
@@ -44,14 +45,15 @@ impl Detection {
         &mut self,
         points: &mut Vec<ContactPoint>,
         bodies: &[Body],
-        constraints: &[Constraint],
+        constraints: &Constraints,
         dt: f32,
         margin: f32,
     ) {
-        if self.joined_for != Some((constraints.len(), bodies.len())) {
+        let joined_for = Some((constraints.stamp(), bodies.len()));
+        if self.joined_for != joined_for {
             self.broad_phase
                 .set_joined(joined(bodies.len(), constraints));
-            self.joined_for = Some((constraints.len(), bodies.len()));
+            self.joined_for = joined_for;
         }
         // last step's points handed over beside the records and the broad phase (independent)
         let (handover, colliders) = (&mut self.handover, &mut self.colliders);

@@ -47,7 +47,7 @@ pub use softness::{Softness, Stacking};
 pub use substep::SubstepStart;
 
 use crate::body::{Body, BodyId};
-use crate::constraint::Constraint;
+use crate::constraint::Constraints;
 use crate::math::Vec3;
 use crate::solver_body::{pair_mut, SharedSlice, SolverBody};
 use detect::Detection;
@@ -227,7 +227,7 @@ pub struct Contacts {
 
 impl Contacts {
     /// Step 2 of the solver: finds the contact points at the current poses ([`detect`]).
-    pub fn detect(&mut self, bodies: &[Body], constraints: &[Constraint], dt: f32, margin: f32) {
+    pub fn detect(&mut self, bodies: &[Body], constraints: &Constraints, dt: f32, margin: f32) {
         self.substeps_begun = 0;
         self.detection
             .detect(&mut self.points, bodies, constraints, dt, margin);
@@ -368,7 +368,7 @@ impl Contacts {
     /// report a fraction of it (the drop at 4 substeps of 5: 1.7 cm at the points, 5.6 cm
     /// found afresh). Pairs of sleeping bodies are not looked at. Neither margin nor speculative
     /// reach: only shapes that overlap now make points.
-    pub fn deepest_overlap(&mut self, bodies: &[Body], constraints: &[Constraint]) -> f32 {
+    pub fn deepest_overlap(&mut self, bodies: &[Body], constraints: &Constraints) -> f32 {
         self.detect(bodies, constraints, 0.0, 0.0);
         self.points
             .iter()

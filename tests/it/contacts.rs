@@ -160,6 +160,16 @@ fn collision_groups_filter_pairs() {
     assert!(world.body(ia).position.x > 0.3 && world.body(ib).position.x < -0.3);
 }
 
+/// A 50 cm capsule lying along x at `x`, 2 m up, for the filter tests.
+fn lying_capsule(name: &str, x: f32) -> Body {
+    let shape = Shape::Capsule {
+        half_height: 0.2,
+        radius: 0.05,
+        axis: Axis::X,
+    };
+    Body::new(name, BodyKind::Dynamic, shape, 1.0).with_pose(Vec3::new(x, 2.0, 0.0), Quat::IDENTITY)
+}
+
 /// Bodies joined by a joint or a rod never make contact points, however they overlap, while the
 /// grid is built and while they fall through it (fat boxes left every step); a joint that sets
 /// `collide_connected` lets its pair collide.
@@ -167,22 +177,13 @@ fn collision_groups_filter_pairs() {
 fn joined_bodies_make_no_points_unless_the_joint_asks() {
     use rodlab::body::BodyId;
     use rodlab::constraint::{BallSocket, Constraint, Rod};
-    let capsule = |name: &str, x: f32| {
-        let shape = Shape::Capsule {
-            half_height: 0.2,
-            radius: 0.05,
-            axis: Axis::X,
-        };
-        Body::new(name, BodyKind::Dynamic, shape, 1.0)
-            .with_pose(Vec3::new(x, 2.0, 0.0), Quat::IDENTITY)
-    };
     // (joint, collide_connected): a joint, a joint that asks to collide, a rod
     for (kind, connected) in [("joint", false), ("joint", true), ("rod", false)] {
         let mut world = World::new(settings());
         // three capsules in a row, each overlapping the next by 10 cm (joined a-b, free b-c)
-        let a = world.add_body(capsule("a", 0.0));
-        let b = world.add_body(capsule("b", 0.4));
-        let c = world.add_body(capsule("c", 0.8));
+        let a = world.add_body(lying_capsule("a", 0.0));
+        let b = world.add_body(lying_capsule("b", 0.4));
+        let c = world.add_body(lying_capsule("c", 0.8));
         match kind {
             "joint" => {
                 let anchor = Vec3::new(0.2, 2.0, 0.0);
@@ -219,6 +220,40 @@ fn joined_bodies_make_no_points_unless_the_joint_asks() {
             "{kind}: the bodies did not fall"
         );
     }
+}
+
+/// A joint moved to other bodies between steps moves the filter with it, though the number of
+/// constraints stays the same: detection rebuilds its joined pairs whenever the constraints'
+/// stamp changes ([`rodlab::constraint::Constraints`]), where it once compared their count.
+#[test]
+fn a_joint_moved_to_other_bodies_moves_the_contact_filter() {
+    use rodlab::body::BodyId;
+    use rodlab::constraint::{BallSocket, Constraint};
+    let mut world = World::new(Settings {
+        gravity: Vec3::ZERO,
+        ..settings()
+    });
+    // three capsules in a row, each overlapping the next by 10 cm
+    let a = world.add_body(lying_capsule("a", 0.0));
+    let b = world.add_body(lying_capsule("b", 0.4));
+    let c = world.add_body(lying_capsule("c", 0.8));
+    let joint = |world: &World, x: BodyId, y: BodyId, at: f32| {
+        let anchor = Vec3::new(at, 2.0, 0.0);
+        BallSocket::at_world_anchor("joint", &world.bodies, x, y, anchor, Quat::IDENTITY)
+    };
+    world.add_constraint(joint(&world, a, b, 0.2));
+    let pairs = |w: &World| {
+        let pair =
+            |p: &rodlab::contact::ContactPoint| (p.body_a.min(p.body_b), p.body_a.max(p.body_b));
+        let touch = |x: BodyId, y: BodyId| w.contacts.points.iter().any(|p| pair(p) == (x, y));
+        (touch(a, b), touch(b, c))
+    };
+    world.step().unwrap();
+    assert_eq!(pairs(&world), (false, true), "joined a-b, free b-c");
+    let moved = joint(&world, b, c, world.body(b).position.x + 0.2);
+    world.constraints[0] = Constraint::BallSocket(moved);
+    world.step().unwrap();
+    assert_eq!(pairs(&world), (true, false), "free a-b, joined b-c");
 }
 
 #[test]

@@ -33,7 +33,7 @@ fn setup(slide: f32, soft: Softness) -> (Vec<SolverBody>, Vec<ContactPoint>) {
         bodies.push(body);
     }
     let mut contacts = Contacts::default();
-    contacts.detect(&bodies, &[], 1.0 / 60.0, 0.05);
+    contacts.detect(&bodies, &Default::default(), 1.0 / 60.0, 0.05);
     contacts.begin_substep(
         &bodies,
         1.0 / 60.0,
@@ -88,7 +88,7 @@ fn stacked_pairs(slide: f32, rate: f32) -> (Vec<SolverBody>, Vec<ContactPoint>) 
         bodies.push(upper);
     }
     let mut contacts = Contacts::default();
-    contacts.detect(&bodies, &[], 1.0 / 60.0, 0.05);
+    contacts.detect(&bodies, &Default::default(), 1.0 / 60.0, 0.05);
     let stacking = Stacking { up: Vec3::Y, rate };
     contacts.begin_substep(
         &bodies,
