@@ -110,6 +110,8 @@ pub trait Lane:
     fn exp(self) -> Self;
     /// Whether any lane of the mask is set.
     fn any(self) -> bool;
+    /// The mask's lanes as bits, lane `i` at bit `i`.
+    fn bitmask(self) -> u32;
 
     /// All lanes zero.
     #[inline(always)]
@@ -200,6 +202,10 @@ macro_rules! impl_lane {
             #[inline(always)]
             fn any(self) -> bool {
                 <$t>::any(self)
+            }
+            #[inline(always)]
+            fn bitmask(self) -> u32 {
+                <$t>::to_bitmask(self) as u32
             }
         }
     };

@@ -15,18 +15,6 @@ impl Aabb {
         (0..3).all(|k| self.min[k] <= other.max[k] && other.min[k] <= self.max[k])
     }
 
-    /// [`Self::overlaps`] without a branch (all six comparisons made).
-    #[inline(always)]
-    pub(super) fn overlaps_branchless(&self, other: &Aabb) -> bool {
-        let (a, b) = (self, other);
-        (a.min[0] <= b.max[0])
-            & (b.min[0] <= a.max[0])
-            & (a.min[1] <= b.max[1])
-            & (b.min[1] <= a.max[1])
-            & (a.min[2] <= b.max[2])
-            & (b.min[2] <= a.max[2])
-    }
-
     /// Whether `inner` is inside this box, and this box not much larger (a body that landed
     /// after a fast fall would otherwise keep the fat box its speed gave it).
     pub(super) fn holds_snugly(&self, inner: &Aabb) -> bool {

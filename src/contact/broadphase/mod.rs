@@ -23,8 +23,9 @@
 //! 6 and 8 times were measured slower on the rain), so a limb covers one to eight cells. Every
 //! body is entered once per cell its fat box touches, as a `(cell key, body)` entry; sorting
 //! the entries groups each cell's bodies, and each group is swept along x (sorted by lower x,
-//! each box tested against those starting before it ends). A pair is reported only from the
-//! cell that holds the lower corner of the two boxes' overlap, so it is reported once. Boxes
+//! each box tested against those starting before it ends, W at a time in lanes). A pair is
+//! reported only from the cell that holds the lower corner of the two boxes' overlap, so it is
+//! reported once. Boxes
 //! covering more than `LARGE_CELLS` (1024) cells are kept apart and tested against every
 //! other box each step, which costs `large x n`. Half-spaces are unbounded: each is paired
 //! with the dynamic bodies whose tight box reaches below its plane.
@@ -99,9 +100,10 @@ impl Flags {
 struct CellBox {
     index: u32,
     body: u32,
-    flags: Flags,
-    /// Bit k: the box's lowest cell along axis k is this cell's (see `rebuild::cell_pairs`).
-    starts_here: u8,
+    /// Bits 0-2: the box's lowest cell along axis k is this cell's (see `rebuild::cell_pairs`);
+    /// bit 3: [`Flags::active`]; bit 4: [`Flags::dynamic`]. Two boxes make a pair here exactly
+    /// when their codes together set all five.
+    code: u8,
     fat: Aabb,
 }
 
@@ -129,9 +131,20 @@ const LARGE_CELLS: i64 = 1024;
 #[derive(Clone, Debug, Default)]
 struct ChunkPairs {
     pairs: Vec<(u32, u32)>,
-    /// Scratch: the second bodies of one box's pairs in a cell.
-    bodies: Vec<u32>,
+    /// Scratch: a cell's boxes sorted by lower x, and their bounds apart
+    /// (padded by a lane width of boxes that meet nothing) for the sweep's lanes.
     group: Vec<CellBox>,
+    lanes: CellLanes,
+}
+
+/// A cell's boxes' lower x, y and z bounds, one array each, in the sweep's order.
+#[derive(Clone, Debug, Default)]
+struct CellLanes {
+    x_min: Vec<f32>,
+    y_min: Vec<f32>,
+    y_max: Vec<f32>,
+    z_min: Vec<f32>,
+    z_max: Vec<f32>,
 }
 
 /// Reused storage, so the step does not allocate once warmed up.
