@@ -80,7 +80,10 @@ pub fn out_of_reach(gap: f32, a: &Motion, b: &Motion, margin: f32, dt: f32) -> b
 }
 
 /// `new_gaps` for the sorted `new_pairs`: the bound a pair had among the sorted `old_pairs`,
-/// or [`UNKNOWN`] for a pair new to the list.
+/// or [`UNKNOWN`] for a pair new to the list. A long list is carried in parts on several
+/// threads, each part from where its first pair falls among the old ones (a landing crowd
+/// rebuilds the grid every step, and the carry of its 100 000 pairs stood alone on the
+/// detection's serial stretch).
 pub fn carry(
     old_pairs: &[(u32, u32)],
     old_gaps: &[f32],
@@ -88,15 +91,35 @@ pub fn carry(
     new_gaps: &mut Vec<f32>,
 ) {
     new_gaps.clear();
-    let mut j = 0;
-    for pair in new_pairs {
-        while j < old_pairs.len() && old_pairs[j] < *pair {
-            j += 1;
+    new_gaps.resize(new_pairs.len(), UNKNOWN);
+    let part = |(new_pairs, new_gaps): (&[(u32, u32)], &mut [f32])| {
+        let key = |&(a, b): &(u32, u32)| (a as u64) << 32 | b as u64;
+        let Some(first) = new_pairs.first() else {
+            return;
+        };
+        let mut j = old_pairs.partition_point(|p| key(p) < key(first));
+        for (pair, gap) in new_pairs.iter().zip(new_gaps) {
+            while j < old_pairs.len() && key(&old_pairs[j]) < key(pair) {
+                j += 1;
+            }
+            if j < old_pairs.len() && old_pairs[j] == *pair {
+                *gap = old_gaps[j];
+            }
         }
-        let kept = j < old_pairs.len() && old_pairs[j] == *pair;
-        new_gaps.push(if kept { old_gaps[j] } else { UNKNOWN });
+    };
+    let threads = rayon::current_num_threads();
+    if threads > 1 && new_pairs.len() >= PARALLEL_CARRY {
+        use rayon::prelude::*;
+        let len = new_pairs.len().div_ceil(2 * threads);
+        let parts = new_pairs.par_chunks(len).zip(new_gaps.par_chunks_mut(len));
+        parts.for_each(part);
+    } else {
+        part((new_pairs, new_gaps));
     }
 }
+
+/// Pairs from which [`carry`] runs in parts on several threads.
+const PARALLEL_CARRY: usize = 16_384;
 
 #[cfg(test)]
 mod tests {
@@ -152,5 +175,40 @@ mod tests {
             &mut gaps,
         );
         assert_eq!(gaps, [0.1, UNKNOWN, 0.3, UNKNOWN]);
+    }
+
+    /// A long list, carried in parts on several threads, against a search per pair.
+    #[test]
+    fn a_long_list_carried_in_parts_keeps_every_bound() {
+        let mut state = 99u32;
+        let mut pairs = |count: usize| {
+            let mut list: Vec<(u32, u32)> = (0..count)
+                .map(|_| {
+                    state ^= state << 13;
+                    state ^= state >> 17;
+                    state ^= state << 5;
+                    (state % 3000, state / 3000 % 3000)
+                })
+                .collect();
+            list.sort_unstable();
+            list.dedup();
+            list
+        };
+        // last step's pairs, a third of them gone and as many new ones come
+        let old = pairs(60_000);
+        let mut new: Vec<(u32, u32)> = old.iter().copied().step_by(3).collect();
+        new.extend(old.iter().copied().skip(1).step_by(3));
+        new.extend(pairs(20_000));
+        new.sort_unstable();
+        new.dedup();
+        let old_gaps: Vec<f32> = (0..old.len()).map(|i| i as f32).collect();
+        let mut gaps = Vec::new();
+        carry(&old, &old_gaps, &new, &mut gaps);
+        assert!(new.len() > PARALLEL_CARRY);
+        let expected: Vec<f32> = (new.iter())
+            .map(|p| old.binary_search(p).map_or(UNKNOWN, |j| old_gaps[j]))
+            .collect();
+        assert_eq!(gaps, expected);
+        assert!(gaps.iter().filter(|g| **g != UNKNOWN).count() > 30_000);
     }
 }
