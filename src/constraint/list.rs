@@ -1,8 +1,8 @@
 //! The world's constraint list, stamped so caches built from it know when it changed.
 //!
-//! The solver prepares the joints' and rods' rows, colours them and packs them into lanes
-//! every frame, though in a running scene they change only when the user edits a constraint or
-//! a body wakes or sleeps. [`Constraints`] hands out a new [`Constraints::stamp`] on every
+//! The solver's joint and rod rows, their colours and lanes change only when the user edits a
+//! constraint or a body wakes or sleeps, so the solver keeps them from frame to frame.
+//! [`Constraints`] hands out a new [`Constraints::stamp`] on every
 //! mutable borrow, so a cache keyed by the stamp (and the bodies' sleep states) is rebuilt
 //! exactly when it may be stale. A stamp is drawn from one counter for the whole process: two
 //! lists share a stamp only when one is a clone of the other, unchanged since.

@@ -17,15 +17,14 @@
 //! 2. prepare: flatten joints, rods and contact points into rows stored per kind (the joints'
 //!    and rods' beside step 1 on a second thread, as they do not depend on the contacts; kept
 //!    from the last frame while the constraints' stamp and the bodies' sleep states are the
-//!    same: [`Constraints::stamp`]), and colour
-//!    each kind's rows so rows of one colour share no movable body ([`graph`]). Joints and
-//!    rods keep their stored order (solving colour by colour is exactly the paper's sequential
-//!    sweep); contact points, whose order is only the broad phase's, take the greedy colouring
-//!    (few, full colours). Either way both solvers sweep the same reordered rows, so the scalar
-//!    and SIMD solvers compute the same thing. The SIMD solver packs the contact points into
-//!    lanes here, where they stay through the frame's substeps (each substep's start, warm
-//!    start, iterations and velocity pass run on the lanes: `packed_contacts.rs`) until they are
-//!    unpacked at the frame's end;
+//!    same: [`Constraints::stamp`]), and colour each kind's rows so rows of one colour share
+//!    no movable body ([`graph`]). Joints and rods keep their stored order (solving colour by
+//!    colour is exactly the paper's sequential sweep); contact points, whose order is only
+//!    the broad phase's, take the greedy colouring (few, full colours). Either way both
+//!    solvers sweep the same reordered rows, so the scalar and SIMD solvers compute the same
+//!    thing. The SIMD solver packs the contact points into lanes here, where they stay
+//!    through the frame's substeps (each substep's start, warm start, iterations and velocity
+//!    pass run on the lanes: `packed_contacts.rs`) until they are unpacked at the frame's end;
 //! 3. for each substep (with [`ContactDetection::Substep`], after contact detection at the
 //!    substep's starting poses, with the reach of one substep, and the points coloured as in
 //!    step 2; points found again keep their impulses and anchors, as from frame to frame):
