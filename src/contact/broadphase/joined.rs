@@ -9,6 +9,10 @@ pub struct Joined {
     /// The higher bodies of body `i`'s pairs: `higher[start[i]..start[i + 1]]` (a handful).
     start: Vec<u32>,
     higher: Vec<u32>,
+    /// Each body's group: the lowest body joined to it through any chain of pairs (a
+    /// ragdoll's root). Two bodies of different groups are never joined, which the grid's
+    /// sweep tests without a lookup.
+    group: Vec<u32>,
 }
 
 impl Joined {
@@ -24,11 +28,36 @@ impl Joined {
         }
         let mut higher = vec![0; start[body_count] as usize];
         let mut filled = start.clone();
+        // union-find, each set's root its lowest body
+        let mut group: Vec<u32> = (0..body_count as u32).collect();
+        fn root(group: &mut [u32], mut i: u32) -> u32 {
+            while group[i as usize] != i {
+                group[i as usize] = group[group[i as usize] as usize];
+                i = group[i as usize];
+            }
+            i
+        }
         for (low, high) in ordered {
             higher[filled[low as usize] as usize] = high;
             filled[low as usize] += 1;
+            let (a, b) = (root(&mut group, low), root(&mut group, high));
+            group[a.max(b) as usize] = a.min(b);
         }
-        Joined { start, higher }
+        for i in 0..body_count as u32 {
+            group[i as usize] = root(&mut group, i);
+        }
+        Joined {
+            start,
+            higher,
+            group,
+        }
+    }
+
+    /// Body `body`'s group: bodies of different groups are never joined. A body beyond the
+    /// lists is its own group.
+    #[inline]
+    pub fn group(&self, body: u32) -> u32 {
+        self.group.get(body as usize).copied().unwrap_or(body)
     }
 
     /// Whether bodies `a` and `b` are joined.
@@ -57,5 +86,14 @@ mod tests {
             }
         }
         assert!(!Joined::default().contains(0, 1));
+    }
+
+    /// Bodies joined through a chain of pairs share a group, the chain's lowest body; others
+    /// do not.
+    #[test]
+    fn a_group_is_a_chain_of_joined_bodies() {
+        let joined = Joined::new(8, [(5, 3), (3, 6), (7, 1), (2, 7)].into_iter());
+        let groups: Vec<u32> = (0..9).map(|b| joined.group(b)).collect();
+        assert_eq!(groups, [0, 1, 1, 3, 4, 3, 3, 1, 8]);
     }
 }

@@ -19,8 +19,12 @@
 //! every third or fourth step in the settled rain, 7.5 ms each on one thread; a quarter
 //! measured no better on two threads, where the update runs on one):
 //!
-//! The cell edge is four times the mean largest fat-box half-size of the movable bodies (2, 3,
-//! 6 and 8 times were measured slower on the rain), so a limb covers one to eight cells. Every
+//! The cell edge is six times the mean largest fat-box half-size of the movable bodies, so a
+//! limb covers one to eight cells. On the landing rain 6 rebuilt faster than 4 (24 000 entries
+//! against 33 000, and less to sort) and 2 or 3 slower (73 000 and 45 000 entries); over a
+//! whole run 4, 6 and 8 were within the noise. (Earlier, 6 and 8 measured slower only because
+//! their fewer entries fell below the sort's parallel threshold, which then also held the
+//! sweep to one thread.) Every
 //! body is entered once per cell its fat box touches, as a `(cell key, body)` entry; sorting
 //! the entries groups each cell's bodies, and each group is swept along x (sorted by lower x,
 //! each box tested against those starting before it ends, W at a time in lanes). A pair is
@@ -30,8 +34,10 @@
 //! other box each step, which costs `large x n`. Half-spaces are unbounded: each is paired
 //! with the dynamic bodies whose tight box reaches below its plane.
 //!
-//! Large worlds sort the entries and walk the cells on several threads: the cells are split into
-//! chunks at cell boundaries, each chunk's pairs into a reused buffer. The kept pairs are sorted
+//! Large worlds sort the entries and walk the cells on several threads (each from its own
+//! threshold: the sweep is worth splitting from a few thousand entries, the sort only from tens
+//! of thousands): the cells are split into chunks at cell boundaries, each chunk's pairs into a
+//! reused buffer. The kept pairs are sorted
 //! by body (two counting passes, `grid::sort_pairs`), so the pairs and their order depend
 //! neither on the thread count nor on when the grid was rebuilt (tested).
 //!
@@ -67,6 +73,8 @@ pub const FAT_MARGIN: f32 = 0.02;
 #[derive(Clone, Copy, Debug, Default)]
 struct Proxy {
     body: u32,
+    /// The body's [`Joined::group`] at the last rebuild.
+    group: u32,
     flags: Flags,
     /// Kept out of the grid (covers more than [`LARGE_CELLS`] cells at the last rebuild).
     large: bool,
@@ -100,6 +108,8 @@ impl Flags {
 struct CellBox {
     index: u32,
     body: u32,
+    /// [`Proxy::group`].
+    group: u32,
     /// Bits 0-2: the box's lowest cell along axis k is this cell's (see `rebuild::cell_pairs`);
     /// bit 3: [`Flags::active`]; bit 4: [`Flags::dynamic`]. Two boxes make a pair here exactly
     /// when their codes together set all five.
@@ -114,12 +124,16 @@ const REBUILD_MOVED: usize = 16;
 /// Entries from which the sort runs on several threads.
 const PARALLEL_SORT: usize = 32_768;
 
+/// Entries from which the cells are swept on several threads: a sweep costs about 90 ns an
+/// entry in the landing rain, far above what splitting it costs.
+const PARALLEL_SWEEP: usize = 4096;
+
 /// Entries from which the grid is sorted by counting over its cells ([`grid::sort_entries`]).
 const COUNTED_SORT: usize = 4096;
 
-/// The grid's cell edge over the movable bodies' mean largest box half-size (measured on the
-/// 1000-ragdoll rain: 3 to 6 within a few per cent of each other).
-const CELL_FACTOR: f32 = 4.0;
+/// The grid's cell edge over the movable bodies' mean largest box half-size (see the module
+/// docs).
+const CELL_FACTOR: f32 = 6.0;
 
 /// A box covering more than this many cells goes to the large list, tested against every
 /// other box. Below it a box is entered in each cell: the rain's walls, stairs and ramps (up
@@ -137,9 +151,13 @@ struct ChunkPairs {
     lanes: CellLanes,
 }
 
-/// A cell's boxes' lower x, y and z bounds, one array each, in the sweep's order.
+/// A cell's boxes' lower x, y and z bounds, and their codes, one array each, in the sweep's
+/// order.
 #[derive(Clone, Debug, Default)]
 struct CellLanes {
+    /// [`CellBox::code`] as the low bits of a float in [1, 2) (`rebuild::code_lane`), so that
+    /// the lanes can test two codes together.
+    code: Vec<f32>,
     x_min: Vec<f32>,
     y_min: Vec<f32>,
     y_max: Vec<f32>,

@@ -273,14 +273,14 @@ fn kept_pairs_reported_in_parts_are_find_pairs() {
     assert_eq!(parts, whole);
 }
 
-/// A world large enough for the parallel sort and chunked cells: the same pairs in the
-/// same order on one thread and on two.
+/// A world large enough for the parallel sort and sweep: the same pairs in the same order on
+/// one thread and on two.
 #[test]
 fn chunked_cells_give_the_same_pairs_on_any_thread_count() {
     let mut random = uniform(777);
-    let bodies: Vec<Body> = (0..12000)
+    let bodies: Vec<Body> = (0..16000)
         .map(|_| {
-            let (x, y, z) = (40.0 * random(), 2.0 * random(), 40.0 * random());
+            let (x, y, z) = (46.0 * random(), 2.0 * random(), 46.0 * random());
             ball(x, y, z, 0.1 + 0.2 * random(), BodyKind::Dynamic)
         })
         .collect();
