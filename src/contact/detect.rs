@@ -14,7 +14,7 @@ use super::broadphase::{BroadPhase, Joined};
 use super::collider::{self, Collider, PARALLEL_BODIES};
 use super::feature::Feature;
 use super::handover::Handover;
-use super::round_lanes::{self, round_radius, RoundPair, RoundTest};
+use super::round_lanes::{self, round_radius, RoundPair, RoundResult, RoundTest};
 use super::{manifold, narrowphase, ContactPoint, PARALLEL_PAIRS};
 use crate::body::{Body, BodyId};
 use crate::constraint::{Constraint, Constraints};
@@ -140,7 +140,7 @@ impl Detection {
             let mut round_tests = out.round_tests.iter();
             for &(a, b, slot) in &out.tested {
                 let test = match found.is_round(a, b) {
-                    true => *round_tests.next().expect("one test per round pair"),
+                    true => round_tests.next().expect("one test per round pair").test(),
                     false => RoundTest::Scalar,
                 };
                 let gap = found.collide(a, b, test, &mut out.points, &mut out.features);
@@ -214,7 +214,7 @@ struct ChunkOut {
     tested: Vec<(u32, u32, u32)>,
     /// The tested pairs of spheres and capsules, and what the lanes found for each.
     round_pairs: Vec<RoundPair>,
-    round_tests: Vec<RoundTest>,
+    round_tests: Vec<RoundResult>,
     /// Pairs whose gap bound proved them out of reach this step.
     skipped: usize,
 }

@@ -39,6 +39,35 @@ pub enum RoundTest {
     },
 }
 
+/// What the lanes wrote for one pair ([`RoundResult::test`] reads it): a record the lanes
+/// write without a branch (choosing [`RoundTest`]'s variant per lane, the branches on the
+/// lanes' masks were mispredicted about every other pair, half of the lanes' time in the
+/// landing rain).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct RoundResult {
+    /// 0: [`RoundTest::Scalar`], 1: [`RoundTest::Apart`], 2: [`RoundTest::Close`].
+    kind: u32,
+    gap: f32,
+    on_a: Vec3,
+    on_b: Vec3,
+}
+
+impl RoundResult {
+    /// What the lanes found.
+    #[inline]
+    pub fn test(&self) -> RoundTest {
+        match self.kind {
+            0 => RoundTest::Scalar,
+            1 => RoundTest::Apart { gap: self.gap },
+            _ => RoundTest::Close {
+                on_a: self.on_a,
+                on_b: self.on_b,
+                gap: self.gap,
+            },
+        }
+    }
+}
+
 /// A pair to test: its two bodies and its reach (contact margin plus how far it may close).
 #[derive(Clone, Copy, Debug)]
 pub struct RoundPair {
@@ -60,7 +89,7 @@ pub fn round_radius(shape: &Shape) -> Option<f32> {
 }
 
 /// Tests `pairs` (both bodies spheres or capsules), appending one result each to `out`.
-pub fn test_pairs(colliders: &[Collider], pairs: &[RoundPair], out: &mut Vec<RoundTest>) {
+pub fn test_pairs(colliders: &[Collider], pairs: &[RoundPair], out: &mut Vec<RoundResult>) {
     for batch in pairs.chunks(Wide::W) {
         test_batch::<Wide>(colliders, batch, out);
     }
@@ -68,7 +97,7 @@ pub fn test_pairs(colliders: &[Collider], pairs: &[RoundPair], out: &mut Vec<Rou
 
 /// One batch of one to W pairs (lanes past the last repeat the first).
 #[inline(always)]
-fn test_batch<L: Lane>(colliders: &[Collider], batch: &[RoundPair], out: &mut Vec<RoundTest>) {
+fn test_batch<L: Lane>(colliders: &[Collider], batch: &[RoundPair], out: &mut Vec<RoundResult>) {
     let pair = |i: usize| *padded(batch, i);
     let body = |i: usize, first: bool| {
         let p = pair(i);
@@ -108,22 +137,17 @@ fn test_batch<L: Lane>(colliders: &[Collider], batch: &[RoundPair], out: &mut Ve
     let segments = (on_b - on_a).length() - ra - rb;
     let gap = spheres.gt(L::splat(0.1)).select(spheres, segments);
 
-    for i in 0..batch.len() {
-        let set = |mask: L| mask.at(i).to_bits() != 0;
-        out.push(if set(spheres_apart) {
-            RoundTest::Apart { gap: gap.at(i) }
-        } else if set(maybe_parallel) {
-            RoundTest::Scalar
-        } else if set(line_apart) || !set(close) {
-            RoundTest::Apart { gap: gap.at(i) }
-        } else {
-            RoundTest::Close {
-                on_a: on_a.lane(i),
-                on_b: on_b.lane(i),
-                gap: gap.at(i),
-            }
-        });
-    }
+    // apart if the spheres are; else the scalar code's if nearly parallel; else apart if
+    // the lines or the closest points are
+    let apart = spheres_apart | (not(maybe_parallel) & (line_apart | not(close)));
+    let scalar = not(spheres_apart) & maybe_parallel;
+    let kind = apart.select(L::splat(1.0), scalar.select(L::zero(), L::splat(2.0)));
+    out.extend((0..batch.len()).map(|i| RoundResult {
+        kind: kind.at(i) as u32,
+        gap: gap.at(i),
+        on_a: on_a.lane(i),
+        on_b: on_b.lane(i),
+    }));
 }
 
 /// [`super::feature::closest_points_on_segments`] per lane, every branch computed and
@@ -221,7 +245,8 @@ mod tests {
         }
         assert_eq!(tests.len(), pairs.len());
         let mut counts = [0; 4];
-        for (i, (pair, &test)) in pairs.iter().zip(&tests).enumerate() {
+        for (i, (pair, result)) in pairs.iter().zip(&tests).enumerate() {
+            let test = result.test();
             let (a, b) = (&colliders[pair.a as usize], &colliders[pair.b as usize]);
             let lanes = from_lanes(a, b, pair.reach, test);
             assert_eq!(lanes, scalar(a, b, pair.reach), "pair {i}: {test:?}");
