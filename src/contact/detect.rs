@@ -113,12 +113,8 @@ impl Detection {
             // place), then the others
             let tested = &mut out.tested;
             tested.clear();
-            let list = |a: u32, b: u32, slot: usize| {
-                tested.push((a, b, slot as u32));
-                gaps::UNKNOWN
-            };
             out.skipped =
-                broad_phase.report_kept_bounded(kept_range, bounds, motions, (margin, dt), list);
+                broad_phase.report_kept_bounded(kept_range, bounds, motions, (margin, dt), tested);
             for &(a, b) in &others[range.start.max(kept) - kept..range.end.max(kept) - kept] {
                 if !broad_phase.joined(a, b) {
                     tested.push((a, b, u32::MAX));

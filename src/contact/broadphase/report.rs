@@ -23,21 +23,30 @@ impl BroadPhase {
         }
     }
 
-    /// [`Self::report_kept`] with the kept pairs' gap bounds ([`gaps`]): `gaps` is the
+    /// [`Self::report_kept`] with the kept pairs' gap bounds ([`gaps`]): `bounds` is the
     /// bounds of `range` (from [`Self::take_gaps`]), `motions` each body's since the last
-    /// step. A pair proven out of reach is skipped; `pair` is told each other pair and its
-    /// place in `range` and returns its new bound (which the caller may also write later).
-    /// Returns how many pairs were skipped.
+    /// step. A pair proven out of reach is skipped (its bound advanced); every other pair
+    /// whose tight boxes overlap is appended to `tested` as `(a, b, place in range)`, its
+    /// bound left [`gaps::UNKNOWN`] for the caller to write. Returns how many pairs were
+    /// skipped.
+    ///
+    /// Whether a pair is skipped or tested is about even in a settled pile, so the choice is
+    /// made without a branch: every overlapping pair is written to `tested`, and the count
+    /// moves on only past the tested ones.
     pub fn report_kept_bounded(
         &self,
         range: std::ops::Range<usize>,
         bounds: &mut [f32],
         motions: &[gaps::Motion],
         (margin, dt): (f32, f32),
-        mut pair: impl FnMut(u32, u32, usize) -> f32,
+        tested: &mut Vec<(u32, u32, u32)>,
     ) -> usize {
         let (proxies, tight) = (&self.proxies, &self.tight);
         let mut skipped = 0;
+        tested.reserve(range.len());
+        let start = tested.len();
+        let spare = &mut tested.spare_capacity_mut()[..range.len()];
+        let mut count = 0;
         for (slot, (&(a, b), gap)) in self.fat_pairs[range].iter().zip(bounds).enumerate() {
             if !tight[a as usize].overlaps(&tight[b as usize]) {
                 *gap = gaps::UNKNOWN;
@@ -45,13 +54,16 @@ impl BroadPhase {
             }
             let (a, b) = (proxies[a as usize].body, proxies[b as usize].body);
             let (ma, mb) = (&motions[a as usize], &motions[b as usize]);
-            *gap = gaps::advance(*gap, ma, mb);
-            if gaps::out_of_reach(*gap, ma, mb, margin, dt) {
-                skipped += 1;
-            } else {
-                *gap = pair(a, b, slot);
-            }
+            let advanced = gaps::advance(*gap, ma, mb);
+            let skip = gaps::out_of_reach(advanced, ma, mb, margin, dt);
+            *gap = if skip { advanced } else { gaps::UNKNOWN };
+            spare[count].write((a, b, slot as u32));
+            count += !skip as usize;
+            skipped += skip as usize;
         }
+        // SAFETY: the first `count` of the spare slots were written (each slot is written
+        // before the count may move past it)
+        unsafe { tested.set_len(start + count) };
         skipped
     }
 
