@@ -24,22 +24,21 @@
 //! against 33 000, and less to sort) and 2 or 3 slower (73 000 and 45 000 entries); over a
 //! whole run 4, 6 and 8 were within the noise. (Earlier, 6 and 8 measured slower only because
 //! their fewer entries fell below the sort's parallel threshold, which then also held the
-//! sweep to one thread.) Every
-//! body is entered once per cell its fat box touches, as a `(cell key, body)` entry; sorting
-//! the entries groups each cell's bodies, and each group is swept along x (sorted by lower x,
-//! each box tested against those starting before it ends, W at a time in lanes). A pair is
-//! reported only from the cell that holds the lower corner of the two boxes' overlap, so it is
-//! reported once. Boxes
-//! covering more than `LARGE_CELLS` (1024) cells are kept apart and tested against every
-//! other box each step, which costs `large x n`. Half-spaces are unbounded: each is paired
+//! sweep to one thread.) Every body is entered once per cell its fat box touches, as a
+//! `(cell key, body)` entry; sorting the entries groups each cell's bodies, and each group is
+//! swept along x (sorted by lower x, each box tested against those starting before it ends, W
+//! at a time in lanes). A pair is reported only from the cell that holds the lower corner of
+//! the two boxes' overlap, so it is reported once. Boxes covering more than `LARGE_CELLS`
+//! (1024) cells are kept apart and tested against every other box each step, which costs
+//! `large x n`. Half-spaces are unbounded: each is paired
 //! with the dynamic bodies whose tight box reaches below its plane.
 //!
 //! Large worlds sort the entries and walk the cells on several threads (each from its own
 //! threshold: the sweep is worth splitting from a few thousand entries, the sort only from tens
 //! of thousands): the cells are split into chunks at cell boundaries, each chunk's pairs into a
-//! reused buffer. The kept pairs are sorted
-//! by body (two counting passes, `grid::sort_pairs`), so the pairs and their order depend
-//! neither on the thread count nor on when the grid was rebuilt (tested).
+//! reused buffer. The kept pairs are sorted by body (two counting passes, `grid::sort_pairs`),
+//! so the pairs and their order depend neither on the thread count nor on when the grid was
+//! rebuilt (tested).
 //!
 //! Cost of a rebuild: a sort of about `8 n` entries plus the pairs in each cell, so it grows
 //! about linearly with the number of bodies for any layout where bodies do not all crowd into
