@@ -45,20 +45,25 @@ pub enum RoundTest {
 /// landing rain).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct RoundResult {
-    /// 0: [`RoundTest::Scalar`], 1: [`RoundTest::Apart`], 2: [`RoundTest::Close`].
+    /// [`SCALAR`], [`APART`] or [`CLOSE`].
     kind: u32,
     gap: f32,
     on_a: Vec3,
     on_b: Vec3,
 }
 
+/// [`RoundResult::kind`]s: [`RoundTest::Scalar`], [`RoundTest::Apart`], [`RoundTest::Close`].
+const SCALAR: u32 = 0;
+const APART: u32 = 1;
+const CLOSE: u32 = 2;
+
 impl RoundResult {
     /// What the lanes found.
     #[inline]
     pub fn test(&self) -> RoundTest {
         match self.kind {
-            0 => RoundTest::Scalar,
-            1 => RoundTest::Apart { gap: self.gap },
+            SCALAR => RoundTest::Scalar,
+            APART => RoundTest::Apart { gap: self.gap },
             _ => RoundTest::Close {
                 on_a: self.on_a,
                 on_b: self.on_b,
@@ -140,8 +145,8 @@ fn test_batch<L: Lane>(colliders: &[Collider], batch: &[RoundPair], out: &mut Ve
     // apart if the spheres are; else the scalar code's if nearly parallel; else apart if
     // the lines or the closest points are
     let apart = spheres_apart | (not(maybe_parallel) & (line_apart | not(close)));
-    let scalar = not(spheres_apart) & maybe_parallel;
-    let kind = apart.select(L::splat(1.0), scalar.select(L::zero(), L::splat(2.0)));
+    let (scalar, close) = (L::splat(SCALAR as f32), L::splat(CLOSE as f32));
+    let kind = apart.select(L::splat(APART as f32), maybe_parallel.select(scalar, close));
     out.extend((0..batch.len()).map(|i| RoundResult {
         kind: kind.at(i) as u32,
         gap: gap.at(i),
