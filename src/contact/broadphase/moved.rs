@@ -77,11 +77,13 @@ impl BroadPhase {
                     break;
                 }
                 let b = &proxies[i as usize];
-                // itself, or a moved body that reports the pair (the lower one)
-                if i == m || (b.moved && i < m) {
-                    continue;
-                }
-                if !a.flags.may_touch(b.flags) || !a.fat.overlaps(&b.fat) {
+                // not itself, not a moved body that reports the pair (the lower one), may touch
+                // and overlaps: tested together, as most candidates fail one test or another
+                let overlap = (0..3).fold(true, |all, k| {
+                    all & (a.fat.min[k] <= b.fat.max[k]) & (b.fat.min[k] <= a.fat.max[k])
+                });
+                let reported_by_b = b.moved & (i < m);
+                if !(overlap & (i != m) & !reported_by_b & a.flags.may_touch(b.flags)) {
                     continue;
                 }
                 // reported from the cell of the overlap's lower corner only
