@@ -109,17 +109,7 @@ impl Detection {
         if self.chunks.len() < chunks {
             self.chunks.resize_with(chunks, Default::default);
         }
-        // where each chunk's candidates start (kept pairs, then the others), each chunk about
-        // the same work (OTHER_WORK)
-        let work = kept + OTHER_WORK * self.others.len();
-        self.starts.clear();
-        self.starts.extend((0..=chunks).map(|c| {
-            let w = work * c / chunks;
-            match w <= kept {
-                true => w,
-                false => (kept + (w - kept).div_ceil(OTHER_WORK)).min(total),
-            }
-        }));
+        chunk_starts(kept, self.others.len(), chunks, &mut self.starts);
         let found = PairContext {
             colliders: &self.colliders,
             handover: &self.handover,
@@ -199,6 +189,20 @@ fn joined(body_count: usize, constraints: &[Constraint]) -> Joined {
         (!connected).then_some((a.0, b.0))
     });
     Joined::new(body_count, pairs)
+}
+
+/// Where each of `chunks` chunks of the candidates (`kept` kept pairs, then `others`) starts,
+/// and where the last ends, each chunk about the same work ([`OTHER_WORK`]).
+fn chunk_starts(kept: usize, others: usize, chunks: usize, starts: &mut Vec<usize>) {
+    let work = kept + OTHER_WORK * others;
+    starts.clear();
+    starts.extend((0..=chunks).map(|c| {
+        let w = work * c / chunks;
+        match w <= kept {
+            true => w,
+            false => (kept + (w - kept).div_ceil(OTHER_WORK)).min(kept + others),
+        }
+    }));
 }
 
 /// Runs `run(c, out, bounds)` for the chunks `first..` whose outputs are `outs`, each given its
@@ -376,5 +380,63 @@ fn measure_motions(previous: &[Collider], now: &[Collider], motions: &mut Vec<Mo
     } else {
         let each = previous.iter().zip(now);
         motions.extend(each.map(|(before, now)| Motion::between(before, now)));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The chunks cover the candidates in order, and their work (a kept pair 1, another
+    /// OTHER_WORK) differs by at most one other pair's from an even share.
+    #[test]
+    fn chunks_cover_the_candidates_with_even_work() {
+        let mut starts = Vec::new();
+        for (kept, others) in [
+            (0, 0),
+            (10, 0),
+            (0, 10),
+            (1000, 37),
+            (5, 200),
+            (69_000, 2500),
+        ] {
+            for chunks in [1, 3, 16] {
+                chunk_starts(kept, others, chunks, &mut starts);
+                assert_eq!(starts.len(), chunks + 1);
+                assert_eq!((starts[0], starts[chunks]), (0, kept + others));
+                assert!(starts.windows(2).all(|w| w[0] <= w[1]), "{starts:?}");
+                let work = |i: usize| i.min(kept) + OTHER_WORK * i.saturating_sub(kept);
+                let share = work(kept + others) as f64 / chunks as f64;
+                for c in 0..chunks {
+                    let done = (work(starts[c + 1]) - work(starts[c])) as f64;
+                    assert!(
+                        (done - share).abs() <= 2.0 * OTHER_WORK as f64,
+                        "kept {kept}, others {others}, chunk {c} of {chunks}: {done} of {share}"
+                    );
+                }
+            }
+        }
+    }
+
+    /// Each chunk is run once, with exactly its own kept pairs' bounds, whatever the split.
+    #[test]
+    fn each_chunk_gets_its_own_bounds() {
+        let (kept, others) = (1000, 300);
+        for chunks in [1, 2, 5, 16] {
+            let mut starts = Vec::new();
+            chunk_starts(kept, others, chunks, &mut starts);
+            let mut bounds: Vec<f32> = (0..kept).map(|i| i as f32).collect();
+            let mut outs = vec![ChunkOut::default(); chunks];
+            let kept_start = |c: usize| starts[c].min(kept);
+            let run = |c: usize, out: &mut ChunkOut, bounds: &mut [f32]| {
+                out.skipped = c + 1; // ran, once
+                let expected = (kept_start(c)..kept_start(c + 1)).map(|i| i as f32);
+                assert!(bounds.iter().copied().eq(expected), "chunk {c} of {chunks}");
+                bounds.iter_mut().for_each(|b| *b = -1.0);
+            };
+            each_chunk(0, &mut outs, &mut bounds, &kept_start, &run);
+            assert!(outs.iter().enumerate().all(|(c, o)| o.skipped == c + 1));
+            assert!(bounds.iter().all(|&b| b == -1.0));
+        }
     }
 }
