@@ -388,7 +388,7 @@ mod tests {
     use super::*;
 
     /// The chunks cover the candidates in order, and their work (a kept pair 1, another
-    /// OTHER_WORK) differs by at most one other pair's from an even share.
+    /// OTHER_WORK) is within two other pairs' of an even share.
     #[test]
     fn chunks_cover_the_candidates_with_even_work() {
         let mut starts = Vec::new();

@@ -79,9 +79,7 @@ impl BroadPhase {
                 let b = &proxies[i as usize];
                 // not itself, not a moved body that reports the pair (the lower one), may touch
                 // and overlaps: tested together, as most candidates fail one test or another
-                let overlap = (0..3).fold(true, |all, k| {
-                    all & (a.fat.min[k] <= b.fat.max[k]) & (b.fat.min[k] <= a.fat.max[k])
-                });
+                let overlap = a.fat.overlaps_all_tested(&b.fat);
                 let reported_by_b = b.moved & (i < m);
                 if !(overlap & (i != m) & !reported_by_b & a.flags.may_touch(b.flags)) {
                     continue;
