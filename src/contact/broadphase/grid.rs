@@ -141,42 +141,6 @@ pub(super) fn merge_kept<T: Ord + Copy>(
     }
 }
 
-/// Sorts `pairs` of proxy indices below `n` by (first, second), as `sort_unstable` would (the
-/// pairs are distinct), by two stable counting passes (second, then first) when `n` fits in 16
-/// bits: about 90 000 pairs at each grid rebuild of the landing rain, where the comparison sort
-/// took 0.8-1.6 ms on two threads. `scratch` and `counts` are reused storage.
-pub(super) fn sort_pairs(
-    pairs: &mut Vec<(u32, u32)>,
-    n: usize,
-    scratch: &mut Vec<(u32, u32)>,
-    counts: &mut Vec<u32>,
-) {
-    if n > 1 << 16 || pairs.len() < 4096 {
-        pairs.sort_unstable();
-        return;
-    }
-    let mut pass =
-        |from: &[(u32, u32)], to: &mut Vec<(u32, u32)>, digit: fn(&(u32, u32)) -> u32| {
-            counts.clear();
-            counts.resize(n + 1, 0);
-            for p in from {
-                counts[digit(p) as usize + 1] += 1;
-            }
-            for i in 0..n {
-                counts[i + 1] += counts[i];
-            }
-            to.clear();
-            to.resize(from.len(), (0, 0));
-            for p in from {
-                let at = &mut counts[digit(p) as usize];
-                to[*at as usize] = *p;
-                *at += 1;
-            }
-        };
-    pass(pairs, scratch, |p| p.1);
-    pass(scratch, pairs, |p| p.0);
-}
-
 /// Sorts the grid's `(cell key, proxy)` entries as `sort_unstable` would (they are distinct)
 /// by one stable counting pass over their cells, numbered in key order, when the cells the
 /// entries lie in (`low..=high` per axis) are at most a few per entry; returns false, with
@@ -250,11 +214,11 @@ impl Bits {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
 
     /// A xorshift generator of integers below its argument.
-    fn xorshift(mut state: u64) -> impl FnMut(u64) -> u64 {
+    pub(in crate::contact::broadphase) fn xorshift(mut state: u64) -> impl FnMut(u64) -> u64 {
         move |n| {
             state ^= state << 13;
             state ^= state >> 7;
@@ -319,27 +283,6 @@ mod tests {
                 "old {old:?} found {found:?} dropping multiples of {dropped}"
             );
         }
-    }
-
-    #[test]
-    fn sort_pairs_orders_as_the_comparison_sort() {
-        let n = 3000;
-        let mut below = xorshift(12345);
-        let mut next = move || below(n as u64) as u32;
-        let mut pairs: Vec<(u32, u32)> = (0..20_000)
-            .map(|_| {
-                let (a, b) = (next(), next());
-                (a.min(b), a.max(b))
-            })
-            .collect();
-        pairs.sort_unstable();
-        pairs.dedup();
-        let sorted = pairs.clone();
-        pairs.reverse();
-        pairs.swap(10, 5000);
-        let (mut scratch, mut counts) = (Vec::new(), Vec::new());
-        sort_pairs(&mut pairs, n, &mut scratch, &mut counts);
-        assert_eq!(pairs, sorted);
     }
 
     /// Boxes over cells on both sides of 0 on every axis, entered as `enter_cells` enters

@@ -36,9 +36,9 @@
 //! Large worlds sort the entries and walk the cells on several threads (each from its own
 //! threshold: the sweep is worth splitting from a few thousand entries, the sort only from tens
 //! of thousands): the cells are split into chunks at cell boundaries, each chunk's pairs into a
-//! reused buffer. The kept pairs are sorted by body (two counting passes, `grid::sort_pairs`),
-//! so the pairs and their order depend neither on the thread count nor on when the grid was
-//! rebuilt (tested).
+//! reused buffer, in runs by the pair's first body. The kept pairs are sorted by body, each
+//! run by two counting passes on its own (`pair_sort::sort_pairs`), so the pairs and their order
+//! depend neither on the thread count nor on when the grid was rebuilt (tested).
 //!
 //! Cost of a rebuild: a sort of about `8 n` entries plus the pairs in each cell, so it grows
 //! about linearly with the number of bodies for any layout where bodies do not all crowd into
@@ -52,6 +52,7 @@ pub mod gaps;
 mod grid;
 mod joined;
 mod moved;
+mod pair_sort;
 mod rebuild;
 mod report;
 #[cfg(test)]
@@ -143,11 +144,19 @@ const LARGE_CELLS: i64 = 1024;
 /// One chunk of cells' output, and its scratch copy of a cell's boxes.
 #[derive(Clone, Debug, Default)]
 struct ChunkPairs {
-    pairs: Vec<(u32, u32)>,
+    /// The pairs by the run of their first index ([`pair_sort::IndexRuns`]).
+    runs: Vec<Vec<(u32, u32)>>,
     /// Scratch: a cell's boxes sorted by lower x, and their bounds apart
     /// (padded by a lane width of boxes that meet nothing) for the sweep's lanes.
     group: Vec<CellBox>,
     lanes: CellLanes,
+}
+
+impl ChunkPairs {
+    /// The pairs whose first index is in run `r`.
+    fn run(&self, r: usize) -> &[(u32, u32)] {
+        &self.runs[r]
+    }
 }
 
 /// A cell's boxes' lower x, y and z bounds, and their codes, one array each, in the sweep's

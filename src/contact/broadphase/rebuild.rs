@@ -2,7 +2,8 @@
 //! joined): the entries sorted by cell, each cell's boxes swept along x on several threads, the
 //! pairs sorted and their gap bounds carried over.
 
-use super::grid::{cell_span, for_each_cell, sort_entries, sort_pairs, KEY_MASK};
+use super::grid::{cell_span, for_each_cell, sort_entries, KEY_MASK};
+use super::pair_sort::{sort_pairs, IndexRuns};
 use super::{gaps, BroadPhase, CellBox, CellLanes, ChunkPairs, Joined, Proxy};
 use super::{CELL_FACTOR, COUNTED_SORT, LARGE_CELLS, PARALLEL_SORT, PARALLEL_SWEEP};
 use crate::lanes::{Lane, Wide};
@@ -19,6 +20,9 @@ impl BroadPhase {
             1
         };
         self.split_chunks(chunks);
+        // the sweeps hand their pairs over in runs by first index, so that each run is sorted
+        // on its own, on several threads where the sweeps ran on several
+        let runs = IndexRuns::new(self.proxies.len(), if chunks > 1 { 4 * threads } else { 1 });
         let proxies = &self.proxies;
         let entries = &self.entries;
         let bounds = &self.bounds;
@@ -29,19 +33,17 @@ impl BroadPhase {
                 .par_iter_mut()
                 .enumerate()
                 .for_each(|(c, out)| {
-                    cell_pairs(&entries[bounds[c]..bounds[c + 1]], proxies, joined, out)
+                    let entries = &entries[bounds[c]..bounds[c + 1]];
+                    cell_pairs(entries, proxies, joined, runs, out)
                 });
         } else {
-            cell_pairs(entries, proxies, joined, &mut self.chunk_pairs[0]);
+            cell_pairs(entries, proxies, joined, runs, &mut self.chunk_pairs[0]);
         }
         std::mem::swap(&mut self.fat_pairs, &mut self.old_pairs);
         std::mem::swap(&mut self.gaps, &mut self.old_gaps);
-        self.fat_pairs.clear();
-        for out in &self.chunk_pairs[..chunks] {
-            self.fat_pairs.extend_from_slice(&out.pairs);
-        }
-        let n = self.proxies.len();
-        sort_pairs(&mut self.fat_pairs, n, &mut self.merged, &mut self.counts);
+        let parts = &self.chunk_pairs[..chunks];
+        let sorted = (&mut self.fat_pairs, &mut self.merged);
+        sort_pairs(parts, ChunkPairs::run, runs, sorted, &mut self.counts);
         gaps::carry(
             &self.old_pairs,
             &self.old_gaps,
@@ -132,8 +134,15 @@ impl BroadPhase {
 /// predictor learns, the sweep cost about 8 ns per candidate. Per rebuild of the landing
 /// rain's grid (rod, a probe's perf samples of the broad phase alone), the cell and flag test
 /// in lanes took 14% off the sweep, and the group test about 15% more.
-fn cell_pairs(entries: &[(u64, u32)], proxies: &[Proxy], joined: &Joined, out: &mut ChunkPairs) {
-    out.pairs.clear();
+fn cell_pairs(
+    entries: &[(u64, u32)],
+    proxies: &[Proxy],
+    joined: &Joined,
+    runs: IndexRuns,
+    out: &mut ChunkPairs,
+) {
+    out.runs.resize_with(runs.count(), Vec::new);
+    out.runs.iter_mut().for_each(Vec::clear);
     let mut start = 0;
     while start < entries.len() {
         let cell_key = entries[start].0;
@@ -168,7 +177,8 @@ fn cell_pairs(entries: &[(u64, u32)], proxies: &[Proxy], joined: &Joined, out: &
                 let b = &group[j];
                 // (only bodies of one group can be joined: a crowd's pairs skip the lookup)
                 if a.group != b.group || !joined.contains(a.body, b.body) {
-                    out.pairs.push((a.index.min(b.index), a.index.max(b.index)));
+                    let (low, high) = (a.index.min(b.index), a.index.max(b.index));
+                    out.runs[runs.of(low)].push((low, high));
                 }
             });
         }
