@@ -7,8 +7,8 @@
 /// so that [`sort_pairs`] can sort each run on its own).
 #[derive(Clone, Copy, Debug)]
 pub(super) struct IndexRuns {
-    /// `2^32 count / n`, rounded up: `a`'s run is `a * magic / 2^32`, below `count` for every
-    /// `a < n` while `n^2 < 2^32 count` (and [`sort_pairs`] counts only from `n <= 2^16`).
+    /// `2^32 count / n`, rounded up: `a`'s run is `a * magic / 2^32` (at most `count - 1`,
+    /// which it can pass only when `n^2 >= 2^32 count`).
     magic: u64,
     count: usize,
     n: usize,
@@ -16,6 +16,7 @@ pub(super) struct IndexRuns {
 
 impl IndexRuns {
     pub(super) fn new(n: usize, count: usize) -> IndexRuns {
+        let count = count.max(1);
         let magic = ((count as u64) << 32) / n.max(1) as u64 + 1;
         IndexRuns { magic, count, n }
     }
@@ -27,13 +28,16 @@ impl IndexRuns {
     /// The run of index `a`.
     #[inline]
     pub(super) fn of(self, a: u32) -> usize {
-        ((a as u64 * self.magic) >> 32) as usize
+        (((a as u64 * self.magic) >> 32) as usize).min(self.count - 1)
     }
 
     /// The first index of run `r` (`n` for `r = count`): the least `a` with `a * magic >= r
     /// 2^32`.
     fn start(self, r: usize) -> usize {
-        (((r as u64) << 32).div_ceil(self.magic) as usize).min(self.n)
+        match r < self.count {
+            true => (((r as u64) << 32).div_ceil(self.magic) as usize).min(self.n),
+            false => self.n,
+        }
     }
 }
 
@@ -186,6 +190,7 @@ mod tests {
             (13_193, 16),
             (65_536, 32),
             (100, 200),
+            (300_000, 8), // n^2 > 2^32 count: the last indices' runs clamped
         ] {
             let runs = IndexRuns::new(n, count);
             let of: Vec<usize> = (0..n as u32).map(|a| runs.of(a)).collect();
