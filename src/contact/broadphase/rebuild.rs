@@ -141,8 +141,11 @@ fn cell_pairs(
     runs: IndexRuns,
     out: &mut ChunkPairs,
 ) {
-    out.runs.resize_with(runs.count(), Vec::new);
-    out.runs.iter_mut().for_each(Vec::clear);
+    // (grown, never shrunk: the runs' lists keep their storage from rebuild to rebuild)
+    if out.runs.len() < runs.count() {
+        out.runs.resize_with(runs.count(), Vec::new);
+    }
+    out.runs[..runs.count()].iter_mut().for_each(Vec::clear);
     let mut start = 0;
     while start < entries.len() {
         let cell_key = entries[start].0;
