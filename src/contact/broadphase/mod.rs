@@ -4,13 +4,15 @@
 //! Each finite body gets its tightest world axis-aligned box ([`Shape::world_half_extents`]: a
 //! limb lying down is a long thin box, not the cube around its bounding sphere, which on the
 //! 1000-ragdoll rain gave 2.6 times the candidate pairs), grown by the distance it may travel
-//! this step and the contact margin. Around it the body keeps a fat box, [`FAT_MARGIN`] larger
-//! on every side, which stays put while the tight box stays inside it. Pairs of overlapping fat
-//! boxes are kept from step to step; each step reports those whose tight boxes overlap. A body
-//! whose tight box leaves its fat box gets a new fat box ("moved"): its grid entries are
-//! replaced by the new box's cells, and its pairs are dropped and found again by querying the
-//! grid with the new box (each list in one merge pass, which drops the moved bodies' old items,
-//! read from a bitset, and merges the new ones in sorted).
+//! this step and half the contact margin: a pair's two boxes together then reach as far as the
+//! narrow phase's reach, margin plus both bodies' travel (a half-space has no box, so its pairs
+//! take the whole margin on the body's side). Around it the body keeps a fat box,
+//! [`FAT_MARGIN`] larger on every side, which stays put while the tight box stays inside it.
+//! Pairs of overlapping fat boxes are kept from step to step; each step reports those whose
+//! tight boxes overlap. A body whose tight box leaves its fat box gets a new fat box ("moved"):
+//! its grid entries are replaced by the new box's cells, and its pairs are dropped and found
+//! again by querying the grid with the new box (each list in one merge pass, which drops the
+//! moved bodies' old items, read from a bitset, and merges the new ones in sorted).
 //! A settled pile moves a few hundred bodies a step, so its broad phase costs the box updates
 //! and the report. Once more than a sixteenth of the bodies move in one step (a falling
 //! crowd), or a body wakes, sleeps or joins, the grid is rebuilt instead, its sweeps on several
@@ -31,7 +33,8 @@
 //! the two boxes' overlap, so it is reported once. Boxes covering more than `LARGE_CELLS`
 //! (1024) cells are kept apart and tested against every other box each step, which costs
 //! `large x n`. Half-spaces are unbounded: each is paired
-//! with the dynamic bodies whose tight box reaches below its plane.
+//! with the dynamic bodies whose tight box, grown by the other half margin, reaches below its
+//! plane.
 //!
 //! Large worlds sort the entries and walk the cells on several threads (each from its own
 //! threshold: the sweep is worth splitting from a few thousand entries, the sort only from tens
@@ -214,6 +217,9 @@ pub struct BroadPhase {
     /// Body pairs never paired ([`Joined`]), and whether they changed since the last rebuild.
     joined: Joined,
     joined_changed: bool,
+    /// The contact margin of the last update (m): a half-space's pairs need it all on the
+    /// body's side.
+    margin: f32,
     /// Grid rebuilds so far (a settled world rebuilds rarely).
     pub rebuilds: u64,
 }
@@ -269,11 +275,15 @@ impl BroadPhase {
             }
             rebuild = true;
         }
+        self.margin = margin;
         self.tight.resize(self.proxies.len(), Aabb::default());
         let boxes = |(proxy, tight): (&mut Proxy, &mut Aabb)| {
             let body = &bodies[proxy.body as usize];
-            // grown by how far the fastest surface point may travel this frame, spin included
-            let grow = margin + dt * (body.linear_velocity.length() + body.spin_bound);
+            // grown by how far the fastest surface point may travel this frame, spin included,
+            // and half the margin: two boxes together cover the pair's whole reach (with the whole
+            // margin on each, as before, the landing rain tested 11% more pairs and the settled
+            // one looked at 16-18% more, for the same points)
+            let grow = 0.5 * margin + dt * (body.linear_velocity.length() + body.spin_bound);
             let half = body.world_half_extents() + Vec3::splat(grow);
             *tight = Aabb {
                 min: (body.position - half).to_array(),

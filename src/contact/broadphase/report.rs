@@ -103,10 +103,12 @@ impl BroadPhase {
                 if !(proxy.flags.dynamic && proxy.flags.active) {
                     continue;
                 }
-                // the box's lowest corner along the normal: above the plane, no contact
+                // the box's lowest corner along the normal, less the half margin the box does
+                // not hold (the pair's reach has all of it on the body's side): above the
+                // plane, no contact
                 let centre = 0.5 * (Vec3::from(tight.min) + Vec3::from(tight.max));
                 let half = 0.5 * (Vec3::from(tight.max) - Vec3::from(tight.min));
-                if normal.dot(centre) - normal.abs().dot(half) <= height {
+                if normal.dot(centre) - normal.abs().dot(half) - 0.5 * self.margin <= height {
                     pair(plane, proxy.body);
                 }
             }
