@@ -15,11 +15,13 @@
 //! moved bodies' old items, read from a bitset, and merges the new ones in sorted).
 //! A settled pile moves a few hundred bodies a step, so its broad phase costs the box updates
 //! and the report. Once more than a sixteenth of the bodies move in one step (a falling
-//! crowd), or a body wakes, sleeps or joins, the grid is rebuilt instead, its sweeps on several
-//! threads (before, moved bodies were left stale in the grid and tested one by one against
-//! each other, and the grid was rebuilt once a sixteenth had moved since the last rebuild:
-//! every third or fourth step in the settled rain, 7.5 ms each on one thread; a quarter
-//! measured no better on two threads, where the update runs on one):
+//! crowd), or a body wakes, sleeps or joins, the pairs are rebuilt instead: group by group
+//! where the bodies come in groups of joined bodies (a crowd of ragdolls, `groups`, which
+//! leaves the grid to be entered at the next update), else from the grid, rebuilt, its sweeps
+//! on several threads (before, moved bodies were left stale in the grid and tested one by one
+//! against each other, and the grid was rebuilt once a sixteenth had moved since the last
+//! rebuild: every third or fourth step in the settled rain, 7.5 ms each on one thread; a
+//! quarter measured no better on two threads, where the update runs on one):
 //!
 //! The cell edge is six times the mean largest fat-box half-size of the movable bodies, so a
 //! limb covers one to eight cells. On the landing rain 6 rebuilt faster than 4 (24 000 entries
@@ -53,6 +55,7 @@
 
 pub mod gaps;
 mod grid;
+mod groups;
 mod joined;
 mod moved;
 mod pair_sort;
@@ -99,6 +102,11 @@ struct Flags {
 }
 
 impl Flags {
+    /// The flags as [`CellBox::code`]'s bits 3 and 4.
+    fn code(self) -> u8 {
+        (self.active as u8) << 3 | (self.dynamic as u8) << 4
+    }
+
     /// A pair needs a body that moves and a body that can be moved or woken: no pairs inside
     /// a sleeping island or between sleeping and static bodies.
     fn may_touch(self, other: Flags) -> bool {
@@ -187,6 +195,13 @@ pub struct BroadPhase {
     large: Vec<u32>,
     /// `(cell key, proxy index)` of the fat boxes at the last rebuild, sorted by key.
     entries: Vec<(u64, u32)>,
+    /// The last rebuild went by groups and left `entries` as they were: the next incremental
+    /// update enters the fat boxes first.
+    grid_stale: bool,
+    /// What a rebuild by groups reuses, and whether rebuilds go by the grid only (to test one
+    /// against the other).
+    groups: groups::Groups,
+    cells_only: bool,
     /// The cell edge's inverse at the last rebuild.
     inverse_cell: f32,
     /// Where each chunk of `entries` starts (at a cell boundary), and each chunk's pairs.

@@ -22,6 +22,9 @@ impl BroadPhase {
                 return false; // grown too large for the grid
             }
         }
+        if self.grid_stale {
+            self.enter_entries();
+        }
         // the grid: the entries of the moved bodies whose fat boxes changed cells out, their
         // new cells in (one merge; most new fat boxes of a settled pile keep their cells, and
         // then the grid's 30 000 entries are not copied)

@@ -9,10 +9,29 @@ use super::{CELL_FACTOR, COUNTED_SORT, LARGE_CELLS, PARALLEL_SORT, PARALLEL_SWEE
 use crate::lanes::{Lane, Wide};
 
 impl BroadPhase {
-    /// Rebuilds the grid from the fat boxes and finds every fat pair.
+    /// Refreshes every fat box and finds every fat pair: by groups where the bodies come in
+    /// groups ([`BroadPhase::rebuild_by_groups`]), else from a rebuilt grid.
     pub(super) fn rebuild(&mut self) {
         self.rebuilds += 1;
-        self.enter_cells();
+        self.refresh_boxes();
+        std::mem::swap(&mut self.fat_pairs, &mut self.old_pairs);
+        std::mem::swap(&mut self.gaps, &mut self.old_gaps);
+        self.grid_stale = !self.cells_only && self.rebuild_by_groups();
+        if !self.grid_stale {
+            self.enter_entries();
+            self.sweep_cells();
+        }
+        gaps::carry(
+            &self.old_pairs,
+            &self.old_gaps,
+            &self.fat_pairs,
+            &mut self.gaps,
+        );
+    }
+
+    /// The fat pairs from the grid: each cell's boxes swept on several threads, the pairs
+    /// sorted.
+    fn sweep_cells(&mut self) {
         let threads = rayon::current_num_threads();
         let chunks = if threads > 1 && self.entries.len() >= PARALLEL_SWEEP {
             4 * threads
@@ -39,22 +58,14 @@ impl BroadPhase {
         } else {
             cell_pairs(entries, proxies, joined, runs, &mut self.chunk_pairs[0]);
         }
-        std::mem::swap(&mut self.fat_pairs, &mut self.old_pairs);
-        std::mem::swap(&mut self.gaps, &mut self.old_gaps);
         let parts = &self.chunk_pairs[..chunks];
         let sorted = (&mut self.fat_pairs, &mut self.merged);
         sort_pairs(parts, ChunkPairs::run, runs, sorted, &mut self.counts);
-        gaps::carry(
-            &self.old_pairs,
-            &self.old_gaps,
-            &self.fat_pairs,
-            &mut self.gaps,
-        );
     }
 
-    /// Fresh fat boxes, the cell edge from the movable bodies' sizes, and every small box
-    /// entered in each cell it covers (large ones listed apart), sorted by cell.
-    fn enter_cells(&mut self) {
+    /// Fresh fat boxes, their groups, the cell edge from the movable bodies' sizes, and each
+    /// box's cells (those covering too many listed as large).
+    pub(super) fn refresh_boxes(&mut self) {
         let mut extent_sum = 0.0;
         let mut movable = 0;
         for (proxy, tight) in self.proxies.iter_mut().zip(&self.tight) {
@@ -69,19 +80,29 @@ impl BroadPhase {
         let cell = CELL_FACTOR * extent_sum / movable.max(1) as f32;
         let inverse_cell = 1.0 / cell;
         self.inverse_cell = inverse_cell;
-
         self.large.clear();
-        self.entries.clear();
-        // the cells the entries lie in, per axis
-        let (mut low, mut high) = ([i64::MAX; 3], [i64::MIN; 3]);
         for (index, proxy) in self.proxies.iter_mut().enumerate() {
             let (lo, hi, cells) = cell_span(&proxy.fat, inverse_cell);
             (proxy.low_cell, proxy.high_cell) = (lo, hi);
             proxy.large = cells > LARGE_CELLS;
             if proxy.large {
                 self.large.push(index as u32);
+            }
+        }
+    }
+
+    /// Every small box entered in each cell it covered at the last [`Self::refresh_boxes`],
+    /// sorted by cell.
+    pub(super) fn enter_entries(&mut self) {
+        self.grid_stale = false;
+        self.entries.clear();
+        // the cells the entries lie in, per axis
+        let (mut low, mut high) = ([i64::MAX; 3], [i64::MIN; 3]);
+        for (index, proxy) in self.proxies.iter().enumerate() {
+            if proxy.large {
                 continue;
             }
+            let (lo, hi) = (proxy.low_cell, proxy.high_cell);
             for k in 0..3 {
                 (low[k], high[k]) = (low[k].min(lo[k]), high[k].max(hi[k]));
             }
@@ -161,12 +182,11 @@ fn cell_pairs(
             let p = &proxies[index as usize];
             let low = p.low_cell.map(|c| c as u64 & KEY_MASK);
             let starts_here = (0..3).fold(0, |bits, k| bits | ((low[k] == here[k]) as u8) << k);
-            let flags = (p.flags.active as u8) << 3 | (p.flags.dynamic as u8) << 4;
             CellBox {
                 index,
                 body: p.body,
                 group: p.group,
-                code: starts_here | flags,
+                code: starts_here | p.flags.code(),
                 fat: p.fat,
             }
         }));
@@ -190,19 +210,22 @@ fn cell_pairs(
 }
 
 /// [`CellBox::code`]'s five bits.
-const ALL_CODE_BITS: u8 = 0b11111;
+pub(super) const ALL_CODE_BITS: u8 = 0b11111;
+
+/// [`CellBox::code`]'s cell bits for a box that starts in every cell (a pair outside the grid).
+pub(super) const IN_EVERY_CELL: u8 = 0b111;
 
 /// `code` as the low mantissa bits of a float in [1, 2): the bitwise or of two such floats is
 /// the float of the two codes' or, and it is [`ALL_CODE_BITS`]'s float exactly when it is at
 /// least that (no code's float is larger).
 #[inline]
-fn code_lane(code: u8) -> f32 {
+pub(super) fn code_lane(code: u8) -> f32 {
     f32::from_bits(1.0f32.to_bits() | code as u32)
 }
 
 impl CellLanes {
     /// The sorted `group`'s bounds, then a lane width of boxes that meet nothing.
-    fn fill(&mut self, group: &[CellBox]) {
+    pub(super) fn fill(&mut self, group: &[CellBox]) {
         let padded = group.len() + Wide::W;
         let column = |v: &mut Vec<f32>, bound: &dyn Fn(&CellBox) -> f32, pad: f32| {
             v.clear();
@@ -225,7 +248,7 @@ impl CellLanes {
     /// moved or woken. Their codes together set all five bits ([`CellBox::code`]); tested in
     /// the lanes, as a branch per box it was mispredicted about every other time.
     #[inline(always)]
-    fn meeting(&self, a: usize, a_ends: f32, mut meet: impl FnMut(usize)) {
+    pub(super) fn meeting(&self, a: usize, a_ends: f32, mut meet: impl FnMut(usize)) {
         let x_max = Wide::splat(a_ends);
         let (y_min, y_max) = (Wide::splat(self.y_min[a]), Wide::splat(self.y_max[a]));
         let (z_min, z_max) = (Wide::splat(self.z_min[a]), Wide::splat(self.z_max[a]));

@@ -328,3 +328,112 @@ fn gallop_is_a_binary_search_from_its_start() {
         }
     }
 }
+
+/// Chains of 2 to 40 capsules (each joined link to link, some links also to the link before
+/// last, as a ragdoll's limbs), one chain holding a large box, loose balls, a large wall and a
+/// half-space, some bodies asleep, drifting step after step: the rebuild by groups finds
+/// exactly the grid's pairs in the grid's order, on one thread and two, and the incremental
+/// updates after it (which enter the grid first) agree too. A world whose groups are not runs
+/// of consecutive bodies falls back to the grid.
+#[test]
+fn groups_find_the_grids_pairs() {
+    let mut random = uniform(4242);
+    let mut bodies = vec![Body::new("floor", BodyKind::Fixed, Shape::HalfSpace, 0.0)];
+    let mut links = Vec::new();
+    while bodies.len() < 6000 {
+        let length = 2 + (random() * 39.0) as usize;
+        let at = Vec3::new(30.0 * random(), 1.5 * random(), 30.0 * random());
+        let with_large = bodies.len() > 3000 && !links.iter().any(|&(a, _)| a > 3000);
+        for link in 0..length {
+            let this = bodies.len() as u32;
+            if link > 0 {
+                links.push((this - 1, this));
+            }
+            if link > 1 && random() < 0.3 {
+                links.push((this - 2, this));
+            }
+            let capsule = Shape::Capsule {
+                half_height: 0.1 + 0.1 * random(),
+                radius: 0.05,
+                axis: crate::shape::Axis::Y,
+            };
+            let spread = if length > 16 { 1.5 } else { 0.6 };
+            let position = at + Vec3::new(random() - 0.5, random() - 0.5, random() - 0.5) * spread;
+            let turn = Quat::from_axis_angle(Vec3::X, 6.0 * random());
+            let body = match with_large && link == 1 {
+                true => Body::new("slab", BodyKind::Fixed, slab(), 0.0)
+                    .with_pose(position - Vec3::Y, Quat::IDENTITY),
+                false => Body::new("l", BodyKind::Dynamic, capsule, 1.0).with_pose(position, turn),
+            };
+            bodies.push(body);
+        }
+        if random() < 0.1 {
+            let (x, y, z) = (30.0 * random(), random(), 30.0 * random());
+            bodies.push(ball(x, y, z, 0.1, BodyKind::Dynamic));
+        }
+    }
+    bodies.push(
+        Body::new("ground", BodyKind::Fixed, slab(), 0.0)
+            .with_pose(Vec3::new(15.0, -0.3, 15.0), Quat::IDENTITY),
+    );
+    let joined = || Joined::new(bodies.len(), links.iter().copied());
+    let (dt, margin) = (1.0 / 60.0, 0.02);
+    for threads in [1, 2] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let mut bodies = bodies.clone();
+        let mut random = uniform(7);
+        let (mut by_groups, mut by_cells) = (BroadPhase::default(), BroadPhase::default());
+        by_groups.set_joined(joined());
+        by_cells.set_joined(joined());
+        by_cells.cells_only = true;
+        for step in 0..12 {
+            // a crowd moving (a rebuild) every third step, else a few bodies (an update)
+            let crowd = step % 3 == 0;
+            for (i, body) in bodies.iter_mut().enumerate().skip(1) {
+                let reach = if crowd || i % 97 == step { 0.08 } else { 0.001 };
+                let drift = Vec3::new(random() - 0.5, random() - 0.5, random() - 0.5) * reach;
+                body.linear_velocity = drift / dt;
+                body.set_pose(body.position + drift, body.orientation);
+                if step == 7 && i % 50 < 12 {
+                    body.asleep = true;
+                }
+            }
+            let colliders = colliders(&bodies);
+            let (mut grouped, mut celled) = (Vec::new(), Vec::new());
+            pool.install(|| {
+                by_groups.find_pairs(&colliders, dt, margin, |a, b| grouped.push((a, b)));
+                by_cells.find_pairs(&colliders, dt, margin, |a, b| celled.push((a, b)));
+            });
+            assert!(celled.len() > 3000, "step {step}: {} pairs", celled.len());
+            let first_difference = grouped.iter().zip(&celled).position(|(g, c)| g != c);
+            assert_eq!(
+                (grouped.len(), first_difference),
+                (celled.len(), None),
+                "{threads} threads, step {step}: pairs, and the first that differs"
+            );
+            if step == 0 {
+                assert!(by_groups.grid_stale, "the groups rebuilt the pairs");
+                assert!(!by_groups.large.is_empty(), "a large box");
+            }
+        }
+    }
+    // the last chain's last link joined to the first body: that group is no longer a run
+    links.push((1, bodies.len() as u32 - 2));
+    let mut broad = BroadPhase::default();
+    broad.set_joined(Joined::new(bodies.len(), links.iter().copied()));
+    broad.find_pairs(&colliders(&bodies), dt, margin, |_, _| {});
+    assert!(
+        !broad.grid_stale,
+        "not groups of consecutive bodies: the grid"
+    );
+}
+
+/// A box too large for the grid's cells (80 m by 80 m, 10 cm thick).
+fn slab() -> Shape {
+    Shape::Cuboid {
+        half_extents: Vec3::new(40.0, 0.05, 40.0),
+    }
+}

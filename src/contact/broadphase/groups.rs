@@ -1,0 +1,453 @@
+//! Rebuilding the kept pairs group by group: a crowd of ragdolls is a thousand groups of a dozen
+//! bodies, and the pairs of two bodies come only from two groups whose boxes overlap.
+//!
+//! 1. Each group's bodies are a run of consecutive proxies (as a ragdoll's are built; else the
+//!    grid's rebuild runs instead). A group's box holds its bodies' fat boxes.
+//! 2. The groups' boxes are swept along the axis their centres spread most on: the group pairs.
+//! 3. Each body is tested, W at a time in lanes, against the bodies after it in its own group
+//!    and against every body of each overlapping group after its own.
+//!
+//! Every body's partners come out in index order (its own group's first, then each later
+//! group's, in order), and the groups are taken in order, so the pairs come out sorted, with
+//! no sort: the same pairs in the same order as the grid's rebuild, which the kept pairs'
+//! incremental updates and the gap bounds' carry read (tested). Nothing is entered in the grid:
+//! the next incremental update enters the fat boxes first ([`BroadPhase::grid_stale`]).
+//!
+//! On the 1000-ragdoll landing rain (rod spines: 1192 groups, 1000 of them ragdolls of 11
+//! bodies) the grid's rebuild entered 24 000 boxes in its cells and swept them for 84 000
+//! pairs; the groups make 8 300 group pairs and about 100 000 tests of one body against 16.
+//! Rebuilding alone on one landing state, one thread: 3.4 ms by the grid, 2.1 by groups; the
+//! whole detection of landing frames 60-75 went from 5.4-5.6 to 4.8 ms (rod) and from 7.8-8.0
+//! to 6.7-7.1 (chain3), with the same pairs.
+
+use super::grid::Aabb;
+use super::rebuild::{code_lane, ALL_CODE_BITS, IN_EVERY_CELL};
+use super::{BroadPhase, CellBox, CellLanes, Joined, Proxy};
+use crate::lanes::{Lane, Wide};
+
+/// Groups rebuild the pairs only when they hold this many bodies on average: a world of loose
+/// bodies, one a group, would be swept along one axis, which grows as `n^1.5`.
+const MIN_MEAN_GROUP: usize = 4;
+
+/// Proxies from which the groups' bodies are tested on several threads.
+const PARALLEL_GROUPS: usize = 2048;
+
+/// Pairs from which the chunks' pairs are copied out on several threads.
+const PARALLEL_COPY: usize = 16_384;
+
+/// One group: its proxies `start..end`.
+#[derive(Clone, Copy, Debug, Default)]
+struct Span {
+    start: u32,
+    end: u32,
+}
+
+/// What a rebuild by groups reuses from one rebuild to the next.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Groups {
+    layout: Layout,
+    /// Each chunk of spans' pairs, in order, and its scratch masks.
+    chunks: Vec<ChunkOut>,
+}
+
+/// One chunk of spans' pairs (as arrays, whose layout the AVX-512 stores rely on) and the
+/// scratch masks of its spans' tests.
+#[derive(Clone, Debug, Default)]
+struct ChunkOut {
+    pairs: Vec<[u32; 2]>,
+    masks: Vec<u32>,
+}
+
+/// The groups, their overlaps and their bodies' boxes.
+#[derive(Clone, Debug, Default)]
+struct Layout {
+    spans: Vec<Span>,
+    /// Scratch: the span of each group seen so far, by the group's id (a body index).
+    span_of: Vec<u32>,
+    /// The group boxes in the sweep (`index`: the span), sorted by their lower bound along the
+    /// sweep's axis, which is moved to `fat.min[0]`, and their bounds in lanes.
+    sweep: Vec<CellBox>,
+    lanes: CellLanes,
+    /// The overlapping group pairs (lower span first); then, for span `s`, the spans after it
+    /// that overlap it: `neighbours[first[s]..first[s + 1]]`, ascending.
+    pairs: Vec<(u32, u32)>,
+    first: Vec<u32>,
+    neighbours: Vec<u32>,
+    /// Every proxy's fat box and code, one column each.
+    bodies: BodyLanes,
+}
+
+/// Every proxy's fat box bounds and [`CellBox::code`] (as [`code_lane`], with every cell bit
+/// set), one column each, padded by a lane width of boxes that meet nothing.
+#[derive(Clone, Debug, Default)]
+struct BodyLanes {
+    min: [Vec<f32>; 3],
+    max: [Vec<f32>; 3],
+    code: Vec<f32>,
+}
+
+impl BodyLanes {
+    fn fill(&mut self, proxies: &[Proxy]) {
+        let padded = proxies.len() + Wide::W;
+        for k in 0..3 {
+            // a large proxy (kept apart, paired by the large pass) meets nothing here
+            let min = |p: &Proxy| if p.large { f32::INFINITY } else { p.fat.min[k] };
+            let max = |p: &Proxy| {
+                if p.large {
+                    f32::NEG_INFINITY
+                } else {
+                    p.fat.max[k]
+                }
+            };
+            fill_column(
+                &mut self.min[k],
+                proxies.iter().map(min),
+                padded,
+                f32::INFINITY,
+            );
+            let pad = f32::NEG_INFINITY;
+            fill_column(&mut self.max[k], proxies.iter().map(max), padded, pad);
+        }
+        let code = |p: &Proxy| code_lane(IN_EVERY_CELL | p.flags.code());
+        fill_column(
+            &mut self.code,
+            proxies.iter().map(code),
+            padded,
+            code_lane(0),
+        );
+    }
+
+    /// The bounds and codes of bodies `from..from + W`, those at or past `end` masked off.
+    #[inline(always)]
+    fn lanes(&self, from: usize, end: usize) -> Lanes {
+        let load = |v: &[f32]| {
+            let lanes = &v[from..from + Wide::W];
+            Wide::from_fn(|k| lanes[k])
+        };
+        Lanes {
+            min: [0, 1, 2].map(|k| load(&self.min[k])),
+            max: [0, 1, 2].map(|k| load(&self.max[k])),
+            code: load(&self.code),
+            within: match end - from {
+                n if n >= Wide::W => u32::MAX >> (32 - Wide::W),
+                n => (1u32 << n) - 1,
+            },
+        }
+    }
+
+    /// The bits of `lanes`' bodies whose boxes overlap body `a`'s and that make a pair with it.
+    #[inline(always)]
+    fn meeting(&self, lanes: &Lanes, a: usize) -> u32 {
+        let all_codes = Wide::splat(code_lane(ALL_CODE_BITS));
+        let mut overlap = all_codes.le(lanes.code | Wide::splat(self.code[a]));
+        for k in 0..3 {
+            overlap = overlap
+                & lanes.min[k].le(Wide::splat(self.max[k][a]))
+                & Wide::splat(self.min[k][a]).le(lanes.max[k]);
+        }
+        overlap.bitmask() & lanes.within
+    }
+}
+
+/// W bodies' bounds and codes ([`BodyLanes::lanes`]).
+struct Lanes {
+    min: [Wide; 3],
+    max: [Wide; 3],
+    code: Wide,
+    within: u32,
+}
+
+/// Appends `(a, base + k)` for each set bit `k` of `bits`, in order. With AVX-512 the lanes'
+/// pairs are compressed in registers and stored whole, with no branch per pair: a branch per
+/// bit, mispredicted as often as not, was most of the rebuild's time.
+#[inline(always)]
+fn push_pairs(out: &mut Vec<[u32; 2]>, a: u32, base: u32, bits: u32) {
+    #[cfg(all(target_arch = "x86_64", target_feature = "avx512f"))]
+    {
+        use std::arch::x86_64::*;
+        out.reserve(16);
+        let len = out.len();
+        // each pair as one u64: `a` in the low half (the array's first, on this little-endian
+        // target), `base + k` in the high half
+        let pair = |k: i64| ((base as i64 + k) << 32) | a as i64;
+        // SAFETY: the build has AVX-512 (cfg); `reserve` made room for 16 pairs past `len`; each
+        // store writes 8 u64s (8 pairs' bytes, `[u32; 2]` having no padding) from where the
+        // last one's pairs end, so the first `count_ones` past `len` are the pairs set, written.
+        unsafe {
+            let to = out.as_mut_ptr().add(len) as *mut __m512i;
+            let low = _mm512_set_epi64(
+                pair(7),
+                pair(6),
+                pair(5),
+                pair(4),
+                pair(3),
+                pair(2),
+                pair(1),
+                pair(0),
+            );
+            let high = _mm512_add_epi64(low, _mm512_set1_epi64(8 << 32));
+            let low_bits = bits as u8;
+            _mm512_storeu_si512(to, _mm512_maskz_compress_epi64(low_bits, low));
+            let next = (to as *mut [u32; 2]).add(low_bits.count_ones() as usize);
+            let high_bits = (bits >> 8) as u8;
+            _mm512_storeu_si512(
+                next as *mut __m512i,
+                _mm512_maskz_compress_epi64(high_bits, high),
+            );
+            out.set_len(len + bits.count_ones() as usize);
+        }
+    }
+    #[cfg(not(all(target_arch = "x86_64", target_feature = "avx512f")))]
+    {
+        let mut bits = bits;
+        while bits != 0 {
+            out.push([a, base + bits.trailing_zeros()]);
+            bits &= bits - 1;
+        }
+    }
+}
+
+fn fill_column(column: &mut Vec<f32>, values: impl Iterator<Item = f32>, len: usize, pad: f32) {
+    column.clear();
+    column.extend(values);
+    column.resize(len, pad);
+}
+
+impl Layout {
+    /// The groups' spans of consecutive proxies; false if a group's proxies are not
+    /// consecutive, or the groups hold too few bodies ([`MIN_MEAN_GROUP`]).
+    fn find_spans(&mut self, proxies: &[Proxy]) -> bool {
+        self.spans.clear();
+        let ids = proxies
+            .iter()
+            .map(|p| p.group as usize + 1)
+            .max()
+            .unwrap_or(0);
+        self.span_of.clear();
+        self.span_of.resize(ids, u32::MAX);
+        for (i, p) in proxies.iter().enumerate() {
+            let span = &mut self.span_of[p.group as usize];
+            if *span == u32::MAX {
+                *span = self.spans.len() as u32;
+                self.spans.push(Span {
+                    start: i as u32,
+                    end: i as u32,
+                });
+            } else if *span as usize != self.spans.len() - 1 {
+                return false; // the group came back after another
+            }
+            self.spans.last_mut().expect("pushed").end = i as u32 + 1;
+        }
+        self.spans.len() * MIN_MEAN_GROUP <= proxies.len()
+    }
+
+    /// The overlapping group pairs: the groups' boxes swept along the axis their centres
+    /// spread most on, W at a time in lanes ([`CellLanes::meeting`]).
+    fn sweep_spans(&mut self, proxies: &[Proxy]) {
+        self.sweep.clear();
+        for (index, span) in (0..).zip(&self.spans) {
+            let members = &proxies[span.start as usize..span.end as usize];
+            let mut fat = Aabb {
+                min: [f32::INFINITY; 3],
+                max: [f32::NEG_INFINITY; 3],
+            };
+            let mut code = IN_EVERY_CELL;
+            for p in members.iter().filter(|p| !p.large) {
+                for k in 0..3 {
+                    fat.min[k] = fat.min[k].min(p.fat.min[k]);
+                    fat.max[k] = fat.max[k].max(p.fat.max[k]);
+                }
+                code |= p.flags.code();
+            }
+            if fat.min[0] <= fat.max[0] {
+                self.sweep.push(CellBox {
+                    index,
+                    body: 0,
+                    group: index,
+                    code,
+                    fat,
+                });
+            }
+        }
+        let spread = |k: usize| {
+            let centres = self.sweep.iter().map(|b| b.fat.min[k] + b.fat.max[k]);
+            let (low, high) = centres.fold((f32::INFINITY, f32::NEG_INFINITY), |(l, h), c| {
+                (l.min(c), h.max(c))
+            });
+            high - low
+        };
+        let axis = (0..3).fold(0, |best, k| if spread(k) > spread(best) { k } else { best });
+        let order = [axis, (axis + 1) % 3, (axis + 2) % 3];
+        for b in &mut self.sweep {
+            (b.fat.min, b.fat.max) = (order.map(|k| b.fat.min[k]), order.map(|k| b.fat.max[k]));
+        }
+        self.sweep
+            .sort_unstable_by(|a, b| a.fat.min[0].total_cmp(&b.fat.min[0]));
+        self.lanes.fill(&self.sweep);
+        self.pairs.clear();
+        let (sweep, pairs) = (&self.sweep, &mut self.pairs);
+        for (i, a) in sweep.iter().enumerate() {
+            self.lanes.meeting(i, a.fat.max[0], |j| {
+                let (s, t) = (a.index, sweep[j].index);
+                pairs.push((s.min(t), s.max(t)));
+            });
+        }
+    }
+
+    /// Each span's overlapping spans after it, ascending ([`Self::neighbours`]).
+    fn list_neighbours(&mut self) {
+        // each list's end, then filled from its end down to its start
+        let spans = self.spans.len();
+        self.first.clear();
+        self.first.resize(spans + 1, 0);
+        for &(s, _) in &self.pairs {
+            self.first[s as usize] += 1;
+        }
+        for s in 1..spans {
+            self.first[s] += self.first[s - 1];
+        }
+        self.first[spans] = self.pairs.len() as u32;
+        self.neighbours.clear();
+        self.neighbours.resize(self.pairs.len(), 0);
+        for &(s, t) in &self.pairs {
+            let at = &mut self.first[s as usize];
+            *at -= 1;
+            self.neighbours[*at as usize] = t;
+        }
+        // (a few dozen each)
+        for s in 0..self.spans.len() {
+            let (from, to) = (self.first[s] as usize, self.first[s + 1] as usize);
+            self.neighbours[from..to].sort_unstable();
+        }
+    }
+
+    /// Appends the pairs whose first body is in span `s`, sorted: each body's partners after
+    /// it in its own group (unless joined), then in each overlapping group after its own.
+    /// Each W bodies of a group are tested against each body of span `s` in turn (their
+    /// bounds loaded once) into `masks`; the pairs are then read out body by body.
+    fn pairs_of_span(
+        &self,
+        s: usize,
+        proxies: &[Proxy],
+        joined: &Joined,
+        masks: &mut Vec<u32>,
+        out: &mut Vec<[u32; 2]>,
+    ) {
+        let span = self.spans[s];
+        let (first, last) = (self.first[s] as usize, self.first[s + 1] as usize);
+        let members = span.start as usize..span.end as usize;
+        let own = std::iter::once(span);
+        let others = self.neighbours[first..last]
+            .iter()
+            .map(|&t| self.spans[t as usize]);
+        let words = |group: Span| (group.start as usize..group.end as usize).step_by(Wide::W);
+        // masks[word * count + i]: the bits of member i's partners among the W bodies of
+        // `word`, the words of its own group and then of each neighbour in order
+        masks.clear();
+        for group in own.clone().chain(others.clone()) {
+            for base in words(group) {
+                let lanes = self.bodies.lanes(base, group.end as usize);
+                masks.extend(members.clone().map(|a| self.bodies.meeting(&lanes, a)));
+            }
+        }
+        let count = members.len();
+        for (i, a) in members.clone().enumerate() {
+            if proxies[a].large {
+                continue;
+            }
+            let body = proxies[a].body;
+            let mut word = 0;
+            for base in words(span) {
+                // its own group: the bodies after it, not joined to it
+                let after = match a.checked_sub(base) {
+                    None => u32::MAX,
+                    Some(d) if d >= Wide::W => 0,
+                    Some(d) => !((2u32 << d) - 1),
+                };
+                let mut bits = masks[word * count + i] & after;
+                word += 1;
+                while bits != 0 {
+                    let b = base + bits.trailing_zeros() as usize;
+                    bits &= bits - 1;
+                    if !joined.contains(body, proxies[b].body) {
+                        out.push([a as u32, b as u32]);
+                    }
+                }
+            }
+            for group in others.clone() {
+                for base in words(group) {
+                    push_pairs(out, a as u32, base as u32, masks[word * count + i]);
+                    word += 1;
+                }
+            }
+        }
+    }
+}
+
+impl BroadPhase {
+    /// Rebuilds the fat pairs group by group (see the module docs) from the fat boxes
+    /// [`Self::refresh_boxes`] set. Returns false, with the pairs untouched, where groups do
+    /// not apply: a group's proxies are not consecutive, or the groups are too small.
+    pub(super) fn rebuild_by_groups(&mut self) -> bool {
+        let Groups {
+            layout,
+            chunks: outs,
+        } = &mut self.groups;
+        if !layout.find_spans(&self.proxies) {
+            return false;
+        }
+        layout.bodies.fill(&self.proxies);
+        layout.sweep_spans(&self.proxies);
+        layout.list_neighbours();
+        let threads = rayon::current_num_threads();
+        let chunks = match threads > 1 && self.proxies.len() >= PARALLEL_GROUPS {
+            true => 4 * threads,
+            false => 1,
+        };
+        if outs.len() < chunks {
+            outs.resize_with(chunks, Default::default);
+        }
+        // chunks of about equal proxies, at span boundaries
+        let layout = &*layout;
+        let n = self.proxies.len();
+        let bound = |c: usize| {
+            let at = n * c / chunks;
+            layout.spans.partition_point(|s| (s.start as usize) < at)
+        };
+        let (proxies, joined) = (&self.proxies, &self.joined);
+        let run = |c: usize, out: &mut ChunkOut| {
+            out.pairs.clear();
+            for s in bound(c)..bound(c + 1) {
+                layout.pairs_of_span(s, proxies, joined, &mut out.masks, &mut out.pairs);
+            }
+        };
+        if chunks > 1 {
+            use rayon::prelude::*;
+            let each = outs[..chunks].par_iter_mut().enumerate();
+            each.for_each(|(c, out)| run(c, out));
+        } else {
+            run(0, &mut outs[0]);
+        }
+        let total = outs[..chunks].iter().map(|c| c.pairs.len()).sum();
+        self.fat_pairs.resize(total, (0, 0)); // (every pair is written over)
+        concatenate(&outs[..chunks], &mut self.fat_pairs);
+        true
+    }
+}
+
+/// Copies the chunks' pairs into `to`, in order, halves on two threads when large.
+fn concatenate(chunks: &[ChunkOut], to: &mut [(u32, u32)]) {
+    if chunks.len() == 1 || to.len() < PARALLEL_COPY {
+        let pairs = chunks.iter().flat_map(|c| &c.pairs);
+        to.iter_mut()
+            .zip(pairs)
+            .for_each(|(to, &[a, b])| *to = (a, b));
+        return;
+    }
+    let half = chunks.len() / 2;
+    let (low, high) = to.split_at_mut(chunks[..half].iter().map(|c| c.pairs.len()).sum());
+    rayon::join(
+        || concatenate(&chunks[..half], low),
+        || concatenate(&chunks[half..], high),
+    );
+}
