@@ -51,10 +51,18 @@ pub(super) struct Groups {
 }
 
 /// One chunk of spans' pairs (as arrays, whose layout the AVX-512 stores rely on) and the
-/// scratch masks of its spans' tests.
+/// scratch of its spans' tests.
 #[derive(Clone, Debug, Default)]
 struct ChunkOut {
     pairs: Vec<[u32; 2]>,
+    scratch: Scratch,
+}
+
+/// A span's tests ([`Layout::pairs_of_span`]): the words, W bodies each (first body, and the end
+/// of its group), and each of the span's bodies' masks over them.
+#[derive(Clone, Debug, Default)]
+struct Scratch {
+    words: Vec<[u32; 2]>,
     masks: Vec<u32>,
 }
 
@@ -323,61 +331,70 @@ impl Layout {
 
     /// Appends the pairs whose first body is in span `s`, sorted: each body's partners after
     /// it in its own group (unless joined), then in each overlapping group after its own.
-    /// Each W bodies of a group are tested against each body of span `s` in turn (their
-    /// bounds loaded once) into `masks`; the pairs are then read out body by body.
+    /// Each W bodies ("word") of those groups are tested against each body of span `s` in turn
+    /// (their bounds loaded once) into `scratch`'s masks, a row of words per body; then each
+    /// body's pairs are read out of its row, skipping the empty words (three in four on the
+    /// landing rain) W at a time.
     fn pairs_of_span(
         &self,
         s: usize,
         proxies: &[Proxy],
         joined: &Joined,
-        masks: &mut Vec<u32>,
+        scratch: &mut Scratch,
         out: &mut Vec<[u32; 2]>,
     ) {
         let span = self.spans[s];
         let (first, last) = (self.first[s] as usize, self.first[s + 1] as usize);
-        let members = span.start as usize..span.end as usize;
-        let own = std::iter::once(span);
         let others = self.neighbours[first..last]
             .iter()
             .map(|&t| self.spans[t as usize]);
-        let words = |group: Span| (group.start as usize..group.end as usize).step_by(Wide::W);
-        // masks[word * count + i]: the bits of member i's partners among the W bodies of
-        // `word`, the words of its own group and then of each neighbour in order
+        let Scratch { words, masks } = scratch;
+        words.clear();
+        for group in std::iter::once(span).chain(others) {
+            let bases = (group.start..group.end).step_by(Wide::W);
+            words.extend(bases.map(|base| [base, group.end]));
+        }
+        let (members, row) = (span.start as usize..span.end as usize, words.len());
         masks.clear();
-        for group in own.clone().chain(others.clone()) {
-            for base in words(group) {
-                let lanes = self.bodies.lanes(base, group.end as usize);
-                masks.extend(members.clone().map(|a| self.bodies.meeting(&lanes, a)));
+        masks.resize(members.len() * row, 0);
+        for (w, &[base, end]) in words.iter().enumerate() {
+            let lanes = self.bodies.lanes(base as usize, end as usize);
+            for (i, a) in members.clone().enumerate() {
+                masks[i * row + w] = self.bodies.meeting(&lanes, a);
             }
         }
-        let count = members.len();
-        for (i, a) in members.clone().enumerate() {
+        let own_words = (members.len()).div_ceil(Wide::W);
+        for (i, a) in members.enumerate() {
             if proxies[a].large {
                 continue;
             }
+            let masks = &masks[i * row..(i + 1) * row];
+            // its own group: the bodies after it, not joined to it
             let body = proxies[a].body;
-            let mut word = 0;
-            for base in words(span) {
-                // its own group: the bodies after it, not joined to it
-                let after = match a.checked_sub(base) {
+            for (&[base, _], &mask) in words.iter().zip(masks).take(own_words) {
+                let after = match a.checked_sub(base as usize) {
                     None => u32::MAX,
                     Some(d) if d >= Wide::W => 0,
                     Some(d) => !((2u32 << d) - 1),
                 };
-                let mut bits = masks[word * count + i] & after;
-                word += 1;
+                let mut bits = mask & after;
                 while bits != 0 {
-                    let b = base + bits.trailing_zeros() as usize;
+                    let b = base as usize + bits.trailing_zeros() as usize;
                     bits &= bits - 1;
                     if !joined.contains(body, proxies[b].body) {
                         out.push([a as u32, b as u32]);
                     }
                 }
             }
-            for group in others.clone() {
-                for base in words(group) {
-                    push_pairs(out, a as u32, base as u32, masks[word * count + i]);
-                    word += 1;
+            // the later groups' words that hold a partner
+            let (words, masks) = (&words[own_words..], &masks[own_words..]);
+            for (c, chunk) in masks.chunks(Wide::W).enumerate() {
+                let nonzero = chunk.iter().enumerate();
+                let mut held = nonzero.fold(0u32, |bits, (k, &m)| bits | ((m != 0) as u32) << k);
+                while held != 0 {
+                    let w = held.trailing_zeros() as usize;
+                    held &= held - 1;
+                    push_pairs(out, a as u32, words[c * Wide::W + w][0], chunk[w]);
                 }
             }
         }
@@ -418,7 +435,7 @@ impl BroadPhase {
         let run = |c: usize, out: &mut ChunkOut| {
             out.pairs.clear();
             for s in bound(c)..bound(c + 1) {
-                layout.pairs_of_span(s, proxies, joined, &mut out.masks, &mut out.pairs);
+                layout.pairs_of_span(s, proxies, joined, &mut out.scratch, &mut out.pairs);
             }
         };
         if chunks > 1 {
