@@ -3,7 +3,8 @@
 //! 100 and 1000 ragdolls standing on a grid, and one step of 1000 boxes resting on the floor,
 //! asleep and awake (what sleeping saves), one step of the drop at its at_rest variant falling
 //! and settled, and one step of the 1000-ragdoll rain landing and settled (issue 9's 60 steps/s,
-//! issue 10's detection per ragdoll; it ends with a table of both). Run with `cargo bench
+//! issue 10's detection per ragdoll; it ends with a table of both), with the landing crowd's
+//! broad-phase rebuild alone, from the grid and group by group. Run with `cargo bench
 //! --bench drop`; `cargo bench --bench drop -- rain` runs the rain alone (about a minute to
 //! settle it first).
 
@@ -13,7 +14,8 @@ use criterion::{
 };
 use rodlab::body::{Body, BodyKind};
 use rodlab::cli::load_scene;
-use rodlab::contact::Contacts;
+use rodlab::contact::broadphase::BroadPhase;
+use rodlab::contact::{collider, detect, Contacts};
 use rodlab::lab::Lab;
 use rodlab::math::{Iso, Quat, Vec3};
 use rodlab::ragdoll::{build_humanoid, HumanoidSpec, SpineKind};
@@ -186,6 +188,9 @@ fn rain_step(c: &mut Criterion) {
                 continue;
             }
             bench_step(&mut group, case.clone(), world);
+            if phase == "landing" {
+                bench_rebuild(&mut group, &case, world);
+            }
             // the step's own profile over 15 consecutive steps, as a run takes them, after one
             // untimed step: criterion's samples each step a fresh copy, whose first step waits
             // on memory a run has in cache (the settled rod's detection: 5.2 against 3.6 ms)
@@ -216,6 +221,33 @@ fn rain_step(c: &mut Criterion) {
             1e3 * detect,
             1e6 * detect / ragdolls
         );
+    }
+}
+
+/// The broad phase's update of `world` with its pairs rebuilt, from the grid and group by group
+/// (`broadphase/groups.rs`, the same pairs): what the landing crowd pays every step.
+fn bench_rebuild(group: &mut BenchmarkGroup<'_, WallTime>, case: &str, world: &World) {
+    let mut colliders = Vec::new();
+    collider::build(&world.bodies, &mut colliders);
+    let joined = detect::joined(world.bodies.len(), &world.constraints);
+    let (dt, margin) = (world.settings.dt, world.settings.contact_margin);
+    for (name, grid_only) in [("grid", true), ("groups", false)] {
+        let mut broad = BroadPhase::default();
+        broad.set_grid_only(grid_only);
+        broad.set_joined(joined.clone());
+        broad.update(&colliders, dt, margin);
+        group.bench_function(format!("{case}/rebuild by {name}"), |b| {
+            b.iter_batched_ref(
+                || {
+                    // new joined pairs: the next update rebuilds
+                    let mut broad = broad.clone();
+                    broad.set_joined(joined.clone());
+                    broad
+                },
+                |broad| broad.update(&colliders, dt, margin),
+                BatchSize::LargeInput,
+            )
+        });
     }
 }
 

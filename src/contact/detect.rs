@@ -182,7 +182,7 @@ impl Detection {
 
 /// The body pairs the constraints join and that never collide (all but joints with
 /// `collide_connected`).
-fn joined(body_count: usize, constraints: &[Constraint]) -> Joined {
+pub fn joined(body_count: usize, constraints: &[Constraint]) -> Joined {
     let pairs = constraints.iter().filter_map(|c| {
         let connected = matches!(c, Constraint::BallSocket(j) if j.collide_connected);
         let (a, b) = c.bodies();

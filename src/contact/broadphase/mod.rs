@@ -264,6 +264,12 @@ impl BroadPhase {
         self.joined_changed = true;
     }
 
+    /// Rebuilds from the grid only, never group by group (`groups`): the two give the same
+    /// pairs in the same order, so this only changes the cost (to compare them).
+    pub fn set_grid_only(&mut self, grid_only: bool) {
+        self.cells_only = grid_only;
+    }
+
     /// Whether bodies `a` and `b` are never paired ([`Self::set_joined`]).
     pub fn joined(&self, a: u32, b: u32) -> bool {
         self.joined.contains(a, b)
