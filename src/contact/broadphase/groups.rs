@@ -1,8 +1,9 @@
 //! Rebuilding the kept pairs group by group: a crowd of ragdolls is a thousand groups of a dozen
 //! bodies, and the pairs of two bodies come only from two groups whose boxes overlap.
 //!
-//! 1. Each group's bodies are a run of consecutive proxies (as a ragdoll's are built; else the
-//!    grid's rebuild runs instead). A group's box holds its bodies' fat boxes.
+//! 1. Each group's bodies are a run of consecutive proxies, as a ragdoll's are built (else,
+//!    or where the groups are too small or one too large, the grid's rebuild runs instead). A
+//!    group's box holds its bodies' fat boxes.
 //! 2. The groups' boxes are swept along the axis their centres spread most on: the group pairs.
 //! 3. Each body is tested, W at a time in lanes, against the bodies after it in its own group
 //!    and against every body of each overlapping group after its own.
@@ -28,6 +29,10 @@ use crate::lanes::{Lane, Wide};
 /// Groups rebuild the pairs only when they hold this many bodies on average: a world of loose
 /// bodies, one a group, would be swept along one axis, which grows as `n^1.5`.
 const MIN_MEAN_GROUP: usize = 4;
+
+/// Nor when a group holds more bodies than this: a group's bodies are tested against each
+/// other, which grows as the square of its size (a rope of a thousand links).
+const MAX_GROUP: usize = 64;
 
 /// Proxies from which the groups' bodies are tested on several threads.
 const PARALLEL_GROUPS: usize = 2048;
@@ -223,7 +228,8 @@ fn fill_column(column: &mut Vec<f32>, values: impl Iterator<Item = f32>, len: us
 
 impl Layout {
     /// The groups' spans of consecutive proxies; false if a group's proxies are not
-    /// consecutive, or the groups hold too few bodies ([`MIN_MEAN_GROUP`]).
+    /// consecutive, a group is too large ([`MAX_GROUP`]) or the groups hold too few bodies
+    /// ([`MIN_MEAN_GROUP`]).
     fn find_spans(&mut self, proxies: &[Proxy]) -> bool {
         self.spans.clear();
         let ids = proxies
@@ -244,7 +250,11 @@ impl Layout {
             } else if *span as usize != self.spans.len() - 1 {
                 return false; // the group came back after another
             }
-            self.spans.last_mut().expect("pushed").end = i as u32 + 1;
+            let span = self.spans.last_mut().expect("pushed");
+            span.end = i as u32 + 1;
+            if (span.end - span.start) as usize > MAX_GROUP {
+                return false;
+            }
         }
         self.spans.len() * MIN_MEAN_GROUP <= proxies.len()
     }

@@ -334,7 +334,7 @@ fn gallop_is_a_binary_search_from_its_start() {
 /// half-space, some bodies asleep, drifting step after step: the rebuild by groups finds
 /// exactly the grid's pairs in the grid's order, on one thread and two, and the incremental
 /// updates after it (which enter the grid first) agree too. A world whose groups are not runs
-/// of consecutive bodies falls back to the grid.
+/// of consecutive bodies, or with a group of 200 bodies, falls back to the grid.
 #[test]
 fn groups_find_the_grids_pairs() {
     let mut random = uniform(4242);
@@ -420,15 +420,16 @@ fn groups_find_the_grids_pairs() {
             }
         }
     }
-    // the last chain's last link joined to the first body: that group is no longer a run
-    links.push((1, bodies.len() as u32 - 2));
-    let mut broad = BroadPhase::default();
-    broad.set_joined(Joined::new(bodies.len(), links.iter().copied()));
-    broad.find_pairs(&colliders(&bodies), dt, margin, |_, _| {});
-    assert!(
-        !broad.grid_stale,
-        "not groups of consecutive bodies: the grid"
-    );
+    // the grid where a group is too large (the first 200 bodies one rope), or a group is not a
+    // run (the last chain's last link joined to the first body)
+    let rope: Vec<(u32, u32)> = (1..200).map(|i| (i, i + 1)).collect();
+    for extra in [rope, vec![(1, bodies.len() as u32 - 2)]] {
+        let links = links.iter().copied().chain(extra);
+        let mut broad = BroadPhase::default();
+        broad.set_joined(Joined::new(bodies.len(), links));
+        broad.find_pairs(&colliders(&bodies), dt, margin, |_, _| {});
+        assert!(!broad.grid_stale, "the grid, not groups");
+    }
 }
 
 /// A box too large for the grid's cells (80 m by 80 m, 10 cm thick).
