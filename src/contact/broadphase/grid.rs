@@ -141,6 +141,19 @@ pub(super) fn merge_kept<T: Ord + Copy>(
     }
 }
 
+/// `column` = `values`, then `pad` up to `len` (a column of lanes, padded by a lane width of
+/// boxes that meet nothing).
+pub(super) fn fill_column(
+    column: &mut Vec<f32>,
+    values: impl Iterator<Item = f32>,
+    len: usize,
+    pad: f32,
+) {
+    column.clear();
+    column.extend(values);
+    column.resize(len, pad);
+}
+
 /// Sorts the grid's `(cell key, proxy)` entries as `sort_unstable` would (they are distinct)
 /// by one stable counting pass over their cells, numbered in key order, when the cells the
 /// entries lie in (`low..=high` per axis) are at most a few per entry; returns false, with

@@ -21,7 +21,7 @@
 //! --bench drop -- rain`, 2 threads): 1.42 ms by groups against 2.29 by the grid (rod), 1.65
 //! against 2.82 (chain3), for the same pairs.
 
-use super::grid::Aabb;
+use super::grid::{fill_column, Aabb};
 use super::rebuild::{code_lane, ALL_CODE_BITS, IN_EVERY_CELL};
 use super::{BroadPhase, CellBox, CellLanes, Joined, Proxy};
 use crate::lanes::{Lane, Wide};
@@ -218,12 +218,6 @@ fn push_pairs(out: &mut Vec<[u32; 2]>, a: u32, base: u32, bits: u32) {
             bits &= bits - 1;
         }
     }
-}
-
-fn fill_column(column: &mut Vec<f32>, values: impl Iterator<Item = f32>, len: usize, pad: f32) {
-    column.clear();
-    column.extend(values);
-    column.resize(len, pad);
 }
 
 impl Layout {

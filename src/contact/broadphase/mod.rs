@@ -201,7 +201,7 @@ pub struct BroadPhase {
     /// What a rebuild by groups reuses, and whether rebuilds go by the grid only (to test one
     /// against the other).
     groups: groups::Groups,
-    cells_only: bool,
+    grid_only: bool,
     /// The cell edge's inverse at the last rebuild.
     inverse_cell: f32,
     /// Where each chunk of `entries` starts (at a cell boundary), and each chunk's pairs.
@@ -235,7 +235,8 @@ pub struct BroadPhase {
     /// The contact margin of the last update (m): a half-space's pairs need it all on the
     /// body's side.
     margin: f32,
-    /// Grid rebuilds so far (a settled world rebuilds rarely).
+    /// Rebuilds of the fat pairs so far, by groups or from the grid (a settled world rebuilds
+    /// rarely).
     pub rebuilds: u64,
 }
 
@@ -267,7 +268,7 @@ impl BroadPhase {
     /// Rebuilds from the grid only, never group by group (`groups`): the two give the same
     /// pairs in the same order, so this only changes the cost (to compare them).
     pub fn set_grid_only(&mut self, grid_only: bool) {
-        self.cells_only = grid_only;
+        self.grid_only = grid_only;
     }
 
     /// Whether bodies `a` and `b` are never paired ([`Self::set_joined`]).

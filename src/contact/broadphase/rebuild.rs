@@ -1,8 +1,9 @@
-//! Rebuilding the grid from every fat box (a falling crowd, or a body that woke, slept or
-//! joined): the entries sorted by cell, each cell's boxes swept along x on several threads, the
-//! pairs sorted and their gap bounds carried over.
+//! Rebuilding the fat pairs from every fat box (a falling crowd, or a body that woke, slept or
+//! joined): group by group where that applies (`groups`), else from the grid, its entries
+//! sorted by cell, each cell's boxes swept along x on several threads and the pairs sorted;
+//! then the gap bounds carried over.
 
-use super::grid::{cell_span, for_each_cell, sort_entries, KEY_MASK};
+use super::grid::{cell_span, fill_column, for_each_cell, sort_entries, KEY_MASK};
 use super::pair_sort::{sort_pairs, IndexRuns};
 use super::{gaps, BroadPhase, CellBox, CellLanes, ChunkPairs, Joined, Proxy};
 use super::{CELL_FACTOR, COUNTED_SORT, LARGE_CELLS, PARALLEL_SORT, PARALLEL_SWEEP};
@@ -16,7 +17,7 @@ impl BroadPhase {
         self.refresh_boxes();
         std::mem::swap(&mut self.fat_pairs, &mut self.old_pairs);
         std::mem::swap(&mut self.gaps, &mut self.old_gaps);
-        self.grid_stale = !self.cells_only && self.rebuild_by_groups();
+        self.grid_stale = !self.grid_only && self.rebuild_by_groups();
         if !self.grid_stale {
             self.enter_entries();
             self.sweep_cells();
@@ -228,9 +229,7 @@ impl CellLanes {
     pub(super) fn fill(&mut self, group: &[CellBox]) {
         let padded = group.len() + Wide::W;
         let column = |v: &mut Vec<f32>, bound: &dyn Fn(&CellBox) -> f32, pad: f32| {
-            v.clear();
-            v.extend(group.iter().map(bound));
-            v.resize(padded, pad);
+            fill_column(v, group.iter().map(bound), padded, pad)
         };
         column(&mut self.x_min, &|b| b.fat.min[0], f32::INFINITY);
         column(&mut self.y_min, &|b| b.fat.min[1], f32::INFINITY);

@@ -388,7 +388,7 @@ fn groups_find_the_grids_pairs() {
         let (mut by_groups, mut by_cells) = (BroadPhase::default(), BroadPhase::default());
         by_groups.set_joined(joined());
         by_cells.set_joined(joined());
-        by_cells.cells_only = true;
+        by_cells.set_grid_only(true);
         for step in 0..12 {
             // a crowd moving (a rebuild) every third step, else a few bodies (an update)
             let crowd = step % 3 == 0;
