@@ -14,38 +14,46 @@ use crate::math::{Quat, Vec3};
 use crate::shape::Shape;
 
 /// The record of one body that contact detection reads (112 bytes).
+///
+/// `repr(C)` in this order so that a float follows each `Vec3` and the shape: glam reads a
+/// `Vec3` field into a 4-lane register with one 16-byte load, and the 4 bytes after it go
+/// through the arithmetic in the unused lane. Left to the compiler, the collision group
+/// followed the velocity: group bits such as `1` or `2` are subnormal floats, which the
+/// processor handles on a slow path (a flag behind the carried anchors cost half the landing
+/// rain's narrow phase, [`super::handover::Handed`]).
 #[derive(Clone, Copy, Debug)]
+#[repr(C)]
 pub struct Collider {
+    /// Body-to-world rotation.
+    pub orientation: Quat,
     /// World position of the centre of mass (m).
     pub position: Vec3,
     /// [`Body::spin_speed_bound`]: how fast spin moves a surface point at most (m/s).
     pub spin_bound: f32,
-    /// Body-to-world rotation.
-    pub orientation: Quat,
     /// Velocity of the centre of mass (m/s).
     pub linear_velocity: Vec3,
-    /// Collision filter group bits.
-    pub collision_group: u32,
-    /// The body's shape.
-    pub shape: Shape,
-    /// A capsule's cap centres are `position -+ half_axis` (world space); zero for the rest.
-    pub half_axis: Vec3,
-    /// Collision filter mask bits.
-    pub collision_mask: u32,
     /// [`Shape::bounding_radius`].
     pub bounding_radius: f32,
+    /// A capsule's cap centres are `position -+ half_axis` (world space); zero for the rest.
+    pub half_axis: Vec3,
+    /// Static friction coefficient mu_s.
+    pub static_friction: f32,
+    /// The body's shape (a box's half extents end it).
+    pub shape: Shape,
+    /// Dynamic friction coefficient mu_d.
+    pub dynamic_friction: f32,
+    /// Read only for the pairs that touch.
+    pub angular_velocity: Vec3,
+    /// Coefficient of restitution.
+    pub restitution: f32,
+    /// Collision filter group bits.
+    pub collision_group: u32,
+    /// Collision filter mask bits.
+    pub collision_mask: u32,
     /// Dynamic, fixed or kinematic.
     pub kind: BodyKind,
     /// [`Body::moves_this_step`].
     pub moves: bool,
-    /// Read only for the pairs that touch.
-    pub angular_velocity: Vec3,
-    /// Static friction coefficient mu_s.
-    pub static_friction: f32,
-    /// Dynamic friction coefficient mu_d.
-    pub dynamic_friction: f32,
-    /// Coefficient of restitution.
-    pub restitution: f32,
 }
 
 impl Collider {
@@ -173,5 +181,50 @@ mod tests {
                 assert_eq!(c.segment(), Some(expected));
             }
         }
+    }
+
+    /// A float follows each `Vec3` of the record, and the shape, which a box's half extents
+    /// end ([`Collider`]'s field order).
+    #[test]
+    fn a_float_follows_each_vector() {
+        use std::mem::{offset_of, size_of};
+        let after = |offset: usize| offset + size_of::<Vec3>();
+        let fields = [
+            (
+                offset_of!(Collider, position),
+                offset_of!(Collider, spin_bound),
+            ),
+            (
+                offset_of!(Collider, linear_velocity),
+                offset_of!(Collider, bounding_radius),
+            ),
+            (
+                offset_of!(Collider, half_axis),
+                offset_of!(Collider, static_friction),
+            ),
+            (
+                offset_of!(Collider, angular_velocity),
+                offset_of!(Collider, restitution),
+            ),
+        ];
+        for (vector, float) in fields {
+            assert_eq!(after(vector), float);
+        }
+        let shape = Shape::Cuboid {
+            half_extents: Vec3::new(1.5, 2.5, 3.5),
+        };
+        let end = size_of::<Shape>() - size_of::<f32>();
+        // SAFETY: the shape's last four bytes lie within it and hold the half extents' z
+        let last = unsafe {
+            (&raw const shape)
+                .cast::<u8>()
+                .add(end)
+                .cast::<f32>()
+                .read_unaligned()
+        };
+        assert_eq!(last, 3.5, "a box's half extents end the shape");
+        let shape_end = offset_of!(Collider, shape) + size_of::<Shape>();
+        assert_eq!(shape_end, offset_of!(Collider, dynamic_friction));
+        assert_eq!(size_of::<Collider>(), 112);
     }
 }
