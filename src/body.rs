@@ -35,7 +35,10 @@ pub enum BodyKind {
 ///
 /// `repr(C)`, with what every substep reads and writes first (pose, velocities, mass and
 /// inertia), so the solver's per-body passes touch its first 132 bytes (the 1000-ragdoll rain:
-/// 0.96x the time with the compiler's field order).
+/// 0.96x the time with the compiler's field order). A float follows each `Vec3`: glam loads a
+/// `Vec3` field with one 16-byte load, and the 4 bytes after it go through the arithmetic in
+/// the unused lane, where the kind and sleep flags would read as subnormal floats (the
+/// processor's slow path; see [`crate::contact::handover::Handed`]).
 #[derive(Clone, Debug)]
 #[repr(C)]
 pub struct Body {
@@ -48,12 +51,12 @@ pub struct Body {
     pub linear_velocity: Vec3,
     /// Angular velocity (rad/s, world axes).
     pub angular_velocity: Vec3,
+    pub(crate) inverse_inertia_world: Mat3,
     /// Dynamic, fixed or kinematic.
     pub kind: BodyKind,
     // --- Sleeping (see [`crate::sleep`]) ---
     /// Out of the step until its island wakes: no integration, no rows, immovable to others.
     pub(crate) asleep: bool,
-    pub(crate) inverse_inertia_world: Mat3,
     /// Principal moments of inertia in body space.
     pub inertia: Vec3,
     pub(crate) inverse_inertia_body: Vec3,
@@ -302,3 +305,39 @@ impl Body {
 }
 
 const _: () = assert!(std::mem::size_of::<Body>() == 256);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// What follows each `Vec3` of the hot part is a float (a scalar, a vector or the inertia
+    /// matrix), never the kind or the sleep flag ([`Body`]'s field order).
+    #[test]
+    fn a_float_follows_each_vector() {
+        use std::mem::{offset_of, size_of};
+        let after = |offset: usize| offset + size_of::<Vec3>();
+        let fields = [
+            (offset_of!(Body, position), offset_of!(Body, inverse_mass)),
+            (
+                offset_of!(Body, linear_velocity),
+                offset_of!(Body, angular_velocity),
+            ),
+            (
+                offset_of!(Body, angular_velocity),
+                offset_of!(Body, inverse_inertia_world),
+            ),
+            (
+                offset_of!(Body, inertia),
+                offset_of!(Body, inverse_inertia_body),
+            ),
+            (
+                offset_of!(Body, inverse_inertia_body),
+                offset_of!(Body, external_force),
+            ),
+            (offset_of!(Body, external_force), offset_of!(Body, mass)),
+        ];
+        for (vector, float) in fields {
+            assert_eq!(after(vector), float);
+        }
+    }
+}
