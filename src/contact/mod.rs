@@ -54,7 +54,12 @@ use detect::Detection;
 use feature::FeatureId;
 
 /// One contact point between two bodies, kept for a step and solved in the iterations.
+///
+/// `repr(C)` with the flags last, so that a float follows each `Vec3`: glam loads a `Vec3`
+/// field with one 16-byte load, and a flag in the unused lane reads as a subnormal float,
+/// which the processor handles on a slow path ([`handover::Handed`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C)]
 pub struct ContactPoint {
     /// First body of the pair; the normal points away from it.
     pub body_a: BodyId,
@@ -86,10 +91,6 @@ pub struct ContactPoint {
     /// Friction anchors in body space: where the points were when the contact began to stick.
     anchor_a: Vec3,
     anchor_b: Vec3,
-    /// Whether the contact stuck (friction within the static cone) through the step.
-    sticking: bool,
-    /// Whether the point has pushed this frame (or was found again with a push to carry).
-    touched: bool,
     /// Normal velocity of the points when the contact was found (m/s, negative approaching).
     approach_speed: f32,
     /// Penetration (m) this substep may leave: what the point had at the substep's start less
@@ -112,6 +113,10 @@ pub struct ContactPoint {
     /// applies first.
     warm_impulse: f32,
     friction_impulse: f32,
+    /// Whether the contact stuck (friction within the static cone) through the step.
+    sticking: bool,
+    /// Whether the point has pushed this frame (or was found again with a push to carry).
+    touched: bool,
 }
 
 impl ContactPoint {
@@ -390,3 +395,48 @@ const PARALLEL_VELOCITY_POINTS: usize = 1024;
 
 /// Pairs with at least this many candidates run the narrow phase on several threads.
 pub(crate) const PARALLEL_PAIRS: usize = 2048;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A float follows each `Vec3` of a point; the flags come last ([`ContactPoint`]).
+    #[test]
+    fn a_float_follows_each_vector() {
+        use std::mem::{offset_of, size_of};
+        let after = |offset: usize| offset + size_of::<Vec3>();
+        let fields = [
+            (
+                offset_of!(ContactPoint, normal),
+                offset_of!(ContactPoint, local_a),
+            ),
+            (
+                offset_of!(ContactPoint, local_a),
+                offset_of!(ContactPoint, local_b),
+            ),
+            (
+                offset_of!(ContactPoint, local_b),
+                offset_of!(ContactPoint, static_friction),
+            ),
+            (
+                offset_of!(ContactPoint, arm_a),
+                offset_of!(ContactPoint, arm_b),
+            ),
+            (
+                offset_of!(ContactPoint, arm_b),
+                offset_of!(ContactPoint, anchor_a),
+            ),
+            (
+                offset_of!(ContactPoint, anchor_a),
+                offset_of!(ContactPoint, anchor_b),
+            ),
+            (
+                offset_of!(ContactPoint, anchor_b),
+                offset_of!(ContactPoint, approach_speed),
+            ),
+        ];
+        for (vector, float) in fields {
+            assert_eq!(after(vector), float);
+        }
+    }
+}
