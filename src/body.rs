@@ -314,30 +314,13 @@ mod tests {
     /// matrix), never the kind or the sleep flag ([`Body`]'s field order).
     #[test]
     fn a_float_follows_each_vector() {
-        use std::mem::{offset_of, size_of};
-        let after = |offset: usize| offset + size_of::<Vec3>();
-        let fields = [
-            (offset_of!(Body, position), offset_of!(Body, inverse_mass)),
-            (
-                offset_of!(Body, linear_velocity),
-                offset_of!(Body, angular_velocity),
-            ),
-            (
-                offset_of!(Body, angular_velocity),
-                offset_of!(Body, inverse_inertia_world),
-            ),
-            (
-                offset_of!(Body, inertia),
-                offset_of!(Body, inverse_inertia_body),
-            ),
-            (
-                offset_of!(Body, inverse_inertia_body),
-                offset_of!(Body, external_force),
-            ),
-            (offset_of!(Body, external_force), offset_of!(Body, mass)),
-        ];
-        for (vector, float) in fields {
-            assert_eq!(after(vector), float);
-        }
+        crate::math::assert_float_follows!(Body:
+            position => inverse_mass,
+            linear_velocity => angular_velocity,
+            angular_velocity => inverse_inertia_world,
+            inertia => inverse_inertia_body,
+            inverse_inertia_body => external_force,
+            external_force => mass,
+        );
     }
 }

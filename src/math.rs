@@ -135,6 +135,24 @@ pub fn quat_from_degrees(rotation_vector_deg: [f32; 3]) -> Quat {
     quat_from_rotation_vector(Vec3::from(rotation_vector_deg) * std::f32::consts::PI / 180.0)
 }
 
+/// Asserts that each listed `Vec3` field of `$record` is followed directly by the field named
+/// after it (a float, or a vector or matrix starting with one), as the hot records lay them
+/// out: glam loads a `Vec3` field with one 16-byte load, so the 4 bytes after it go through
+/// the arithmetic in the unused SSE lane, and a flag or bit field there reads as a subnormal
+/// float, which the processor handles on a slow path ([`crate::contact::handover::Handed`]).
+#[cfg(test)]
+macro_rules! assert_float_follows {
+    ($record:ty: $($vector:ident => $next:ident),+ $(,)?) => {
+        $(assert_eq!(
+            std::mem::offset_of!($record, $vector) + std::mem::size_of::<$crate::math::Vec3>(),
+            std::mem::offset_of!($record, $next),
+            concat!(stringify!($vector), " must be followed by ", stringify!($next)),
+        );)+
+    };
+}
+#[cfg(test)]
+pub(crate) use assert_float_follows;
+
 #[cfg(test)]
 mod tests {
     use super::*;

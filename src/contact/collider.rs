@@ -188,28 +188,12 @@ mod tests {
     #[test]
     fn a_float_follows_each_vector() {
         use std::mem::{offset_of, size_of};
-        let after = |offset: usize| offset + size_of::<Vec3>();
-        let fields = [
-            (
-                offset_of!(Collider, position),
-                offset_of!(Collider, spin_bound),
-            ),
-            (
-                offset_of!(Collider, linear_velocity),
-                offset_of!(Collider, bounding_radius),
-            ),
-            (
-                offset_of!(Collider, half_axis),
-                offset_of!(Collider, static_friction),
-            ),
-            (
-                offset_of!(Collider, angular_velocity),
-                offset_of!(Collider, restitution),
-            ),
-        ];
-        for (vector, float) in fields {
-            assert_eq!(after(vector), float);
-        }
+        crate::math::assert_float_follows!(Collider:
+            position => spin_bound,
+            linear_velocity => bounding_radius,
+            half_axis => static_friction,
+            angular_velocity => restitution,
+        );
         let shape = Shape::Cuboid {
             half_extents: Vec3::new(1.5, 2.5, 3.5),
         };

@@ -139,14 +139,10 @@ mod tests {
     /// `sticking` flag, whose `true` reads as a subnormal float ([`Handed`]).
     #[test]
     fn a_float_follows_each_anchor() {
-        use std::mem::offset_of;
-        let after = |offset: usize| offset + std::mem::size_of::<Vec3>();
-        assert_eq!(
-            after(offset_of!(Handed, anchor_a)),
-            offset_of!(Handed, anchor_b)
+        crate::math::assert_float_follows!(Handed:
+            anchor_a => anchor_b,
+            anchor_b => normal_impulse,
         );
-        let impulse = offset_of!(Handed, normal_impulse);
-        assert_eq!(after(offset_of!(Handed, anchor_b)), impulse);
     }
 
     /// Every pair finds exactly its own points, in their order, whatever order the solver left

@@ -403,40 +403,14 @@ mod tests {
     /// A float follows each `Vec3` of a point; the flags come last ([`ContactPoint`]).
     #[test]
     fn a_float_follows_each_vector() {
-        use std::mem::{offset_of, size_of};
-        let after = |offset: usize| offset + size_of::<Vec3>();
-        let fields = [
-            (
-                offset_of!(ContactPoint, normal),
-                offset_of!(ContactPoint, local_a),
-            ),
-            (
-                offset_of!(ContactPoint, local_a),
-                offset_of!(ContactPoint, local_b),
-            ),
-            (
-                offset_of!(ContactPoint, local_b),
-                offset_of!(ContactPoint, static_friction),
-            ),
-            (
-                offset_of!(ContactPoint, arm_a),
-                offset_of!(ContactPoint, arm_b),
-            ),
-            (
-                offset_of!(ContactPoint, arm_b),
-                offset_of!(ContactPoint, anchor_a),
-            ),
-            (
-                offset_of!(ContactPoint, anchor_a),
-                offset_of!(ContactPoint, anchor_b),
-            ),
-            (
-                offset_of!(ContactPoint, anchor_b),
-                offset_of!(ContactPoint, approach_speed),
-            ),
-        ];
-        for (vector, float) in fields {
-            assert_eq!(after(vector), float);
-        }
+        crate::math::assert_float_follows!(ContactPoint:
+            normal => local_a,
+            local_a => local_b,
+            local_b => static_friction,
+            arm_a => arm_b,
+            arm_b => anchor_a,
+            anchor_a => anchor_b,
+            anchor_b => approach_speed,
+        );
     }
 }
