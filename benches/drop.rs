@@ -15,12 +15,14 @@ use criterion::{
 use rodlab::body::{Body, BodyKind};
 use rodlab::cli::load_scene;
 use rodlab::contact::broadphase::BroadPhase;
+use rodlab::contact::detect::DetectionProfile;
 use rodlab::contact::{collider, detect, Contacts};
 use rodlab::lab::Lab;
 use rodlab::math::{Iso, Quat, Vec3};
 use rodlab::ragdoll::{build_humanoid, HumanoidSpec, SpineKind};
 use rodlab::shape::Shape;
 use rodlab::sim::{self, NoObserver, Overrides};
+use rodlab::solver::Profile;
 use rodlab::world::{Settings, World};
 
 /// `file`'s scene (at `variant`, if any) with `spine`, built and stepped: the lab after each
@@ -164,7 +166,8 @@ fn settled_against_falling(c: &mut Criterion) {
 /// (settled), per spine, on the machine's threads. Issue 9's target: 60 steps/s at 2 cores;
 /// issue 10's: detection at most 3 us per ragdoll. The table after the group gives each case's
 /// median step, its steps/s and its detection per ragdoll, from the step profile of 15
-/// consecutive steps from that state.
+/// consecutive steps from that state, with detection's broad and narrow phases
+/// (`Contacts::detection_profile`) and how many of the 15 rebuilt the kept pairs.
 fn rain_step(c: &mut Criterion) {
     let cases = [
         "rod/landing",
@@ -196,15 +199,26 @@ fn rain_step(c: &mut Criterion) {
             // on memory a run has in cache (the settled rod's detection: 5.2 against 3.6 ms)
             let mut w = world.clone();
             w.step().unwrap();
-            let (mut steps, mut detects): (Vec<f64>, Vec<f64>) = (0..15)
+            let profiles: Vec<_> = (0..15)
                 .map(|_| {
                     w.step().unwrap();
-                    (w.solver.profile.step, w.solver.profile.detect)
+                    (w.solver.profile, *w.contacts.detection_profile())
                 })
-                .unzip();
-            steps.sort_by(f64::total_cmp);
-            detects.sort_by(f64::total_cmp);
-            table.push((case, steps[7], detects[7], lab.ragdolls.len() as f64));
+                .collect();
+            let median = |of: &dyn Fn(&(Profile, DetectionProfile)) -> f64| {
+                let mut values: Vec<f64> = profiles.iter().map(of).collect();
+                values.sort_by(f64::total_cmp);
+                values[values.len() / 2]
+            };
+            table.push(RainRow {
+                case,
+                step: median(&|(step, _)| step.step),
+                detect: median(&|(step, _)| step.detect),
+                broad_phase: median(&|(_, detection)| detection.broad_phase),
+                narrow_phase: median(&|(_, detection)| detection.narrow_phase),
+                rebuilt: profiles.iter().filter(|(_, d)| d.rebuilt).count(),
+                ragdolls: lab.ragdolls.len() as f64,
+            });
         }
     }
     group.finish();
@@ -212,16 +226,35 @@ fn rain_step(c: &mut Criterion) {
         "\nthe rain, 15 consecutive steps (median), {} thread(s):",
         rayon::current_num_threads()
     );
-    println!("case               step ms   steps/s   detect ms   detect us per ragdoll");
-    for (case, step, detect, ragdolls) in table {
+    println!(
+        "case               step ms   steps/s   detect ms   detect us per ragdoll   \
+         broad phase ms   narrow phase ms   steps rebuilt"
+    );
+    for row in table {
         println!(
-            "{case:<18} {:>7.2}   {:>7.1}   {:>9.2}   {:>9.2}",
-            1e3 * step,
-            1.0 / step,
-            1e3 * detect,
-            1e6 * detect / ragdolls
+            "{:<18} {:>7.2}   {:>7.1}   {:>9.2}   {:>21.2}   {:>14.2}   {:>15.2}   {:>10} of 15",
+            row.case,
+            1e3 * row.step,
+            1.0 / row.step,
+            1e3 * row.detect,
+            1e6 * row.detect / row.ragdolls,
+            1e3 * row.broad_phase,
+            1e3 * row.narrow_phase,
+            row.rebuilt,
         );
     }
+}
+
+/// One case of the rain's table: medians over 15 steps (s), and how many of them rebuilt the
+/// broad phase's pairs.
+struct RainRow {
+    case: String,
+    step: f64,
+    detect: f64,
+    broad_phase: f64,
+    narrow_phase: f64,
+    rebuilt: usize,
+    ragdolls: f64,
 }
 
 /// The broad phase's update of `world` with its pairs rebuilt, from the grid and group by group

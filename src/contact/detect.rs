@@ -18,6 +18,7 @@ use super::round_lanes::{self, round_radius, RoundPair, RoundResult, RoundTest};
 use super::{manifold, narrowphase, ContactPoint, PARALLEL_PAIRS};
 use crate::body::{Body, BodyId};
 use crate::constraint::{Constraint, Constraints};
+use std::time::Instant;
 
 /// How many kept pairs' work one of the others (a large box's or a half-space's pair: all
 /// tested, most of them touching) is, to balance the narrow phase's chunks. With chunks of
@@ -45,6 +46,31 @@ pub struct Detection {
     joined_for: Option<(u64, usize)>,
     /// Pairs the gap bounds skipped at the last detection.
     skipped: usize,
+    profile: DetectionProfile,
+}
+
+/// Where the last detection's wall time went, piece by piece (as Box2D's `b2Profile` splits
+/// its broad phase from its narrow phase), and what it did.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct DetectionProfile {
+    /// The bodies' records (s).
+    pub records: f64,
+    /// The broad phase's update (s): the tight and fat boxes, the kept pairs brought up to date
+    /// or rebuilt, and the large boxes' and half-spaces' pairs listed; on one thread, while
+    /// another runs `handover`.
+    pub broad_phase: f64,
+    /// Last step's points handed over and the bodies' motions measured (s).
+    pub handover: f64,
+    /// The narrow phase (s), on all threads: the kept pairs' report, the shape tests and the
+    /// points.
+    pub narrow_phase: f64,
+    /// The chunks' points copied into one list (s).
+    pub concatenate: f64,
+    /// Whether the broad phase rebuilt its kept pairs (a crowd in motion), rather than
+    /// updating the few bodies that moved.
+    pub rebuilt: bool,
+    /// Pairs the narrow phase tested (the skipped ones not counted).
+    pub pairs_tested: usize,
 }
 
 impl Detection {
@@ -68,35 +94,43 @@ impl Detection {
         // reads them) on the other. (With the records and the motions in the broad phase's
         // stretch, the settled rain's stretch took 0.96 ms against the handover's 0.47, the
         // other thread idle for the rest: in-step detection 2.96-3.07 -> 2.72-2.75 ms.)
+        let records = Instant::now();
         std::mem::swap(&mut self.colliders, &mut self.previous);
         collider::build(bodies, &mut self.colliders);
+        let records = records.elapsed().as_secs_f64();
         let (colliders, previous) = (&self.colliders, &self.previous);
         let (handover, motions) = (&mut self.handover, &mut self.motions);
         let (broad_phase, others) = (&mut self.broad_phase, &mut self.others);
         let mut broad = move || {
             // the kept pairs are reported chunk by chunk inside the narrow phase's parallel
             // loop; the few others (large boxes', half-spaces') are listed now, to come last
+            let start = Instant::now();
+            let rebuilds = broad_phase.rebuilds;
             others.clear();
             let moving = broad_phase.update(colliders, dt, margin);
-            if !moving {
-                return 0;
+            if moving {
+                broad_phase.report_others(colliders, |a, b| others.push((a, b)));
             }
-            broad_phase.report_others(colliders, |a, b| others.push((a, b)));
-            broad_phase.kept_len()
+            let kept = if moving { broad_phase.kept_len() } else { 0 };
+            let rebuilt = broad_phase.rebuilds != rebuilds;
+            (kept, rebuilt, start.elapsed().as_secs_f64())
         };
         let last_points: &[ContactPoint] = points;
         let mut beside = move || {
+            let start = Instant::now();
             handover.take(last_points, bodies.len());
             measure_motions(previous, colliders, motions);
+            start.elapsed().as_secs_f64()
         };
         // (the handover waits for the other thread, which first finishes the joints' rows the
         // solver prepares beside detection)
-        let kept = if rayon::current_num_threads() > 1 && bodies.len() >= PARALLEL_BODIES {
-            rayon::join(broad, beside).0
-        } else {
-            beside();
-            broad()
-        };
+        let ((kept, rebuilt, broad_seconds), handover_seconds) =
+            if rayon::current_num_threads() > 1 && bodies.len() >= PARALLEL_BODIES {
+                rayon::join(broad, beside)
+            } else {
+                let handover = beside();
+                (broad(), handover)
+            };
         points.clear();
         let total = kept + self.others.len();
         // (eight a thread: halves of halves balance the threads better than four; with the
@@ -161,6 +195,7 @@ impl Detection {
             }
         };
         let kept_start = |c: usize| starts[c].min(kept);
+        let narrow_phase = Instant::now();
         each_chunk(
             0,
             &mut self.chunks[..chunks],
@@ -168,9 +203,25 @@ impl Detection {
             &kept_start,
             &run,
         );
+        let narrow_phase = narrow_phase.elapsed().as_secs_f64();
         self.broad_phase.restore_gaps(bounds);
         self.skipped = self.chunks[..chunks].iter().map(|c| c.skipped).sum();
+        let concatenation = Instant::now();
         concatenate(&self.chunks[..chunks], points);
+        self.profile = DetectionProfile {
+            records,
+            broad_phase: broad_seconds,
+            handover: handover_seconds,
+            narrow_phase,
+            concatenate: concatenation.elapsed().as_secs_f64(),
+            rebuilt,
+            pairs_tested: self.chunks[..chunks].iter().map(|c| c.tested.len()).sum(),
+        };
+    }
+
+    /// Where the last detection's time went ([`DetectionProfile`]).
+    pub fn profile(&self) -> &DetectionProfile {
+        &self.profile
     }
 
     /// How many candidate pairs the last detection skipped as proven out of reach

@@ -244,6 +244,11 @@ impl Contacts {
         self.detection.pairs_skipped()
     }
 
+    /// Where the last detection's wall time went, piece by piece.
+    pub fn detection_profile(&self) -> &detect::DetectionProfile {
+        self.detection.profile()
+    }
+
     /// Starts a substep: the accumulated impulses count one substep's pushes (the projection's
     /// `total >= 0` clamp and the friction cone are per substep, as the preview restarts from
     /// the current pose). A point's friction anchors last while it sticks; from the second
