@@ -184,6 +184,45 @@ fn the_step_profile_accounts_for_the_step() {
     );
 }
 
+/// Detection's pieces (`Contacts::detection_profile`) lie within the step's detect phase, a new
+/// world's first detection rebuilds its pairs, and every body pair with a point was tested.
+#[test]
+fn the_detection_profile_accounts_for_detection() {
+    let _alone = one_at_a_time();
+    let mut lab = Scene::load(SCENE).unwrap().build().unwrap();
+    lab.step().unwrap();
+    let first = *lab.world.contacts.detection_profile();
+    assert!(
+        first.rebuilt,
+        "a new world's first detection rebuilds: {first:?}"
+    );
+    sim::run(&mut lab, 90, &mut sim::NoObserver).unwrap(); // the pile has formed
+    for _ in 0..20 {
+        lab.step().unwrap();
+        let d = *lab.world.contacts.detection_profile();
+        // the broad phase and the handover run side by side on two threads, one after the
+        // other on one
+        let pieces = d.records + d.broad_phase.max(d.handover) + d.narrow_phase + d.concatenate;
+        let detect = lab.world.solver.profile.detect;
+        assert!(
+            pieces <= detect,
+            "pieces {pieces} s of detect's {detect} s: {d:?}"
+        );
+        let mut pairs: Vec<(u32, u32)> = (lab.world.contacts.points.iter())
+            .map(|p| (p.body_a.0, p.body_b.0))
+            .collect();
+        pairs.sort_unstable();
+        pairs.dedup();
+        assert!(!pairs.is_empty(), "the pile touches");
+        assert!(
+            pairs.len() <= d.pairs_tested,
+            "{} pairs with points, {} tested",
+            pairs.len(),
+            d.pairs_tested
+        );
+    }
+}
+
 /// The drop at rest (issue 10): at the scene's `at_rest` variant (4 substeps of 4 iterations,
 /// SIMD, exact joints, contacts warm-started at 0.25 and soft at 60 Hz, joint damping 0.1
 /// N m s/rad, sleeping on) the pile is asleep, or has every surface point under the sleep
