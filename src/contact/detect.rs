@@ -56,8 +56,8 @@ pub struct DetectionProfile {
     /// The bodies' records (s).
     pub records: f64,
     /// The broad phase's update (s): the tight and fat boxes, the kept pairs brought up to date
-    /// or rebuilt, and the large boxes' and half-spaces' pairs listed; on one thread, while
-    /// another runs `handover`.
+    /// or rebuilt, and the large boxes' and half-spaces' pairs listed; beside `handover` on
+    /// several threads, before it on one.
     pub broad_phase: f64,
     /// Last step's points handed over and the bodies' motions measured (s).
     pub handover: f64,
