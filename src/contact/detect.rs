@@ -57,7 +57,7 @@ pub struct DetectionProfile {
     pub records: f64,
     /// The broad phase's update (s): the tight and fat boxes, the kept pairs brought up to date
     /// or rebuilt, and the large boxes' and half-spaces' pairs listed; beside `handover` on
-    /// several threads, before it on one.
+    /// several threads, after it on one.
     pub broad_phase: f64,
     /// Last step's points handed over and the bodies' motions measured (s).
     pub handover: f64,
