@@ -8,7 +8,8 @@ use std::time::Instant;
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Profile {
     /// 1. contact detection (broad and narrow phase); on several threads with the joints' and
-    /// rods' rows prepared beside it. Its pieces: [`crate::contact::Contacts::detection_profile`].
+    ///    rods' rows prepared beside it. Its pieces:
+    ///    [`crate::contact::Contacts::detection_profile`].
     pub detect: f64,
     /// 2. rows per kind, coloured (on several threads the contact points' only).
     pub prepare: f64,
