@@ -182,13 +182,15 @@ impl Detection {
             out.round_tests.clear();
             round_lanes::test_pairs(found.colliders, &out.round_pairs, &mut out.round_tests);
             out.points.clear();
-            let mut round_tests = out.round_tests.iter();
+            // the round pairs are the tested ones in order: the next one is this pair's, if any
+            let mut round = out.round_pairs.iter().zip(&out.round_tests).peekable();
             for &(a, b, slot) in &out.tested {
-                let test = match found.is_round(a, b) {
-                    true => round_tests.next().expect("one test per round pair").test(),
-                    false => RoundTest::Scalar,
+                let next = round.next_if(|(pair, _)| (pair.a, pair.b) == (a, b));
+                let (test, reach) = match next {
+                    Some((pair, result)) => (result.test(), pair.reach),
+                    None => (RoundTest::Scalar, found.reach(a, b)),
                 };
-                let gap = found.collide(a, b, test, &mut out.points, &mut out.features);
+                let gap = found.collide(a, b, (test, reach), &mut out.points, &mut out.features);
                 if let Some(bound) = bounds.get_mut(slot as usize) {
                     *bound = gap;
                 }
@@ -345,14 +347,14 @@ impl PairContext<'_> {
         self.margin + self.dt * closing
     }
 
-    /// The contact points of the pair (a, b) (filtered, then the narrow phase, or what the
-    /// lanes found, `test`) onto `points`, and a lower bound on the distance of its shapes if
-    /// it made none ([`gaps`]).
+    /// The contact points of the pair (a, b) within `reach` ([`Self::reach`]; filtered, then
+    /// the narrow phase, or what the lanes found, `test`) onto `points`, and a lower bound on
+    /// the distance of its shapes if it made none ([`gaps`]).
     fn collide(
         &self,
         a: u32,
         b: u32,
-        test: RoundTest,
+        (test, reach): (RoundTest, f32),
         points: &mut Vec<ContactPoint>,
         features: &mut Vec<Feature>,
     ) -> f32 {
@@ -362,7 +364,6 @@ impl PairContext<'_> {
         {
             return gaps::UNKNOWN;
         }
-        let reach = self.reach(a, b);
         features.clear();
         match test {
             RoundTest::Scalar => {
