@@ -44,8 +44,6 @@ pub struct Detection {
     /// The constraints ([`Constraints::stamp`]) and body count the broad phase's [`Joined`]
     /// pairs were built for.
     joined_for: Option<(u64, usize)>,
-    /// Pairs the gap bounds skipped at the last detection.
-    skipped: usize,
     profile: DetectionProfile,
 }
 
@@ -71,6 +69,8 @@ pub struct DetectionProfile {
     pub rebuilt: bool,
     /// Pairs the narrow phase tested (the skipped ones not counted).
     pub pairs_tested: usize,
+    /// Pairs the gap bounds skipped as proven out of reach ([`gaps`]).
+    pub pairs_skipped: usize,
 }
 
 impl Detection {
@@ -207,7 +207,6 @@ impl Detection {
         );
         let narrow_phase = narrow_phase.elapsed().as_secs_f64();
         self.broad_phase.restore_gaps(bounds);
-        self.skipped = self.chunks[..chunks].iter().map(|c| c.skipped).sum();
         let concatenation = Instant::now();
         concatenate(&self.chunks[..chunks], points);
         self.profile = DetectionProfile {
@@ -218,6 +217,7 @@ impl Detection {
             concatenate: concatenation.elapsed().as_secs_f64(),
             rebuilt,
             pairs_tested: self.chunks[..chunks].iter().map(|c| c.tested.len()).sum(),
+            pairs_skipped: self.chunks[..chunks].iter().map(|c| c.skipped).sum(),
         };
     }
 
@@ -229,7 +229,7 @@ impl Detection {
     /// How many candidate pairs the last detection skipped as proven out of reach
     /// ([`gaps`]): pairs whose boxes overlap but whose shapes cannot make a point.
     pub fn pairs_skipped(&self) -> usize {
-        self.skipped
+        self.profile.pairs_skipped
     }
 }
 
