@@ -35,10 +35,8 @@ pub enum BodyKind {
 ///
 /// `repr(C)`, with what every substep reads and writes first (pose, velocities, mass and
 /// inertia), so the solver's per-body passes touch its first 132 bytes (the 1000-ragdoll rain:
-/// 0.96x the time with the compiler's field order). A float follows each `Vec3`: glam loads a
-/// `Vec3` field with one 16-byte load, and the 4 bytes after it go through the arithmetic in
-/// the unused lane, where the kind and sleep flags would read as subnormal floats (the
-/// processor's slow path; see [`crate::contact::handover::Handed`]).
+/// 0.96x the time with the compiler's field order). A float follows each `Vec3`, never the
+/// kind or the sleep flag (why: [`crate::contact::handover::Handed`]).
 #[derive(Clone, Debug)]
 #[repr(C)]
 pub struct Body {

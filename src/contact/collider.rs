@@ -15,12 +15,9 @@ use crate::shape::Shape;
 
 /// The record of one body that contact detection reads (112 bytes).
 ///
-/// `repr(C)` in this order so that a float follows each `Vec3` and the shape: glam reads a
-/// `Vec3` field into a 4-lane register with one 16-byte load, and the 4 bytes after it go
-/// through the arithmetic in the unused lane. Left to the compiler, the collision group
-/// followed the velocity: group bits such as `1` or `2` are subnormal floats, which the
-/// processor handles on a slow path (a flag behind the carried anchors cost half the landing
-/// rain's narrow phase, [`super::handover::Handed`]).
+/// `repr(C)` in this order so that a float follows each `Vec3` and the shape, never the filter
+/// bits (why: [`super::handover::Handed`]); left to the compiler, the collision group followed
+/// the velocity.
 #[derive(Clone, Copy, Debug)]
 #[repr(C)]
 pub struct Collider {

@@ -55,9 +55,8 @@ use feature::FeatureId;
 
 /// One contact point between two bodies, kept for a step and solved in the iterations.
 ///
-/// `repr(C)` with the flags last, so that a float follows each `Vec3`: glam loads a `Vec3`
-/// field with one 16-byte load, and a flag in the unused lane reads as a subnormal float,
-/// which the processor handles on a slow path ([`handover::Handed`]).
+/// `repr(C)` with the flags last, so that a float follows each `Vec3` (why:
+/// [`handover::Handed`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(C)]
 pub struct ContactPoint {
