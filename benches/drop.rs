@@ -167,7 +167,9 @@ fn settled_against_falling(c: &mut Criterion) {
 /// issue 10's: detection at most 3 us per ragdoll. The table after the group gives each case's
 /// median step, its steps/s and its detection per ragdoll, from the step profile of 15
 /// consecutive steps from that state, with detection's broad and narrow phases
-/// (`Contacts::detection_profile`) and how many of the 15 rebuilt the kept pairs.
+/// (`Contacts::detection_profile`) and how many of the 15 rebuilt the kept pairs; a second
+/// table splits the broad phase (boxes, kept pairs) and the narrow phase's work summed over
+/// its threads (report, shape tests in lanes, points), with the points' cost per point.
 fn rain_step(c: &mut Criterion) {
     let cases = [
         "rod/landing",
@@ -217,7 +219,13 @@ fn rain_step(c: &mut Criterion) {
                 broad_phase: median(&|(_, detection)| detection.broad_phase),
                 narrow_phase: median(&|(_, detection)| detection.narrow_phase),
                 rebuilt: profiles.iter().filter(|(_, d)| d.rebuilt).count(),
+                boxes: median(&|(_, detection)| detection.broad_phase_parts.boxes),
+                kept_pairs: median(&|(_, detection)| detection.broad_phase_parts.pairs),
+                report: median(&|(_, detection)| detection.narrow_phase_work.report),
+                shape_tests: median(&|(_, detection)| detection.narrow_phase_work.shape_tests),
+                points: median(&|(_, detection)| detection.narrow_phase_work.points),
                 ragdolls: lab.ragdolls.len() as f64,
+                contact_points: w.contacts.points.len() as f64,
             });
         }
     }
@@ -230,7 +238,7 @@ fn rain_step(c: &mut Criterion) {
         "case               step ms   steps/s   detect ms   detect us per ragdoll   \
          broad phase ms   narrow phase ms   steps rebuilt"
     );
-    for row in table {
+    for row in &table {
         println!(
             "{:<18} {:>7.2}   {:>7.1}   {:>9.2}   {:>21.2}   {:>14.2}   {:>15.2}   {:>10} of 15",
             row.case,
@@ -241,6 +249,26 @@ fn rain_step(c: &mut Criterion) {
             1e3 * row.broad_phase,
             1e3 * row.narrow_phase,
             row.rebuilt,
+        );
+    }
+    println!(
+        "\nits parts (median ms): the broad phase's wall time; the narrow phase's work summed \
+         over its threads"
+    );
+    println!(
+        "case               boxes   kept pairs   |   report   shape tests   points   \
+         points ns per point"
+    );
+    for row in &table {
+        println!(
+            "{:<18} {:>5.2}   {:>10.2}   |   {:>6.2}   {:>11.2}   {:>6.2}   {:>19.0}",
+            row.case,
+            1e3 * row.boxes,
+            1e3 * row.kept_pairs,
+            1e3 * row.report,
+            1e3 * row.shape_tests,
+            1e3 * row.points,
+            1e9 * row.points / row.contact_points,
         );
     }
 }
@@ -255,6 +283,14 @@ struct RainRow {
     narrow_phase: f64,
     rebuilt: usize,
     ragdolls: f64,
+    /// The broad phase's parts, and the narrow phase's work summed over threads (s).
+    boxes: f64,
+    kept_pairs: f64,
+    report: f64,
+    shape_tests: f64,
+    points: f64,
+    /// Contact points found in the last of the 15 steps.
+    contact_points: f64,
 }
 
 /// The broad phase's update of `world` with its pairs rebuilt, from the grid and group by group

@@ -10,7 +10,7 @@
 //! points in pair order.
 
 use super::broadphase::gaps::{self, Motion};
-use super::broadphase::{BroadPhase, Joined};
+use super::broadphase::{BroadPhase, Joined, UpdateTiming};
 use super::collider::{self, Collider, PARALLEL_BODIES};
 use super::feature::Feature;
 use super::handover::Handover;
@@ -57,11 +57,15 @@ pub struct DetectionProfile {
     /// or rebuilt, and the large boxes' and half-spaces' pairs listed; beside `handover` on
     /// several threads, after it on one.
     pub broad_phase: f64,
+    /// Of `broad_phase`: the boxes, and the kept pairs ([`UpdateTiming`]).
+    pub broad_phase_parts: UpdateTiming,
     /// Last step's points handed over and the bodies' motions measured (s).
     pub handover: f64,
     /// The narrow phase (s), on all threads: the kept pairs' report, the shape tests and the
     /// points.
     pub narrow_phase: f64,
+    /// The narrow phase's work by part, summed over its threads.
+    pub narrow_phase_work: NarrowPhaseWork,
     /// The chunks' points copied into one list (s).
     pub concatenate: f64,
     /// Whether the broad phase rebuilt its kept pairs (a crowd in motion), rather than
@@ -71,6 +75,28 @@ pub struct DetectionProfile {
     pub pairs_tested: usize,
     /// Pairs the gap bounds skipped as proven out of reach ([`gaps`]).
     pub pairs_skipped: usize,
+}
+
+/// The narrow phase's work by part (s), summed over the threads that ran its chunks: where a
+/// pair's cost goes, whatever the thread count.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct NarrowPhaseWork {
+    /// The kept pairs' report: their tight boxes and gap bounds.
+    pub report: f64,
+    /// The sphere and capsule pairs listed and tested in lanes.
+    pub shape_tests: f64,
+    /// Every tested pair's points made (and the other pairs' shape tests).
+    pub points: f64,
+}
+
+impl NarrowPhaseWork {
+    fn add(self, other: NarrowPhaseWork) -> NarrowPhaseWork {
+        NarrowPhaseWork {
+            report: self.report + other.report,
+            shape_tests: self.shape_tests + other.shape_tests,
+            points: self.points + other.points,
+        }
+    }
 }
 
 impl Detection {
@@ -156,6 +182,7 @@ impl Detection {
         let (motions, starts) = (&self.motions, &self.starts);
         // chunk c: candidates starts[c]..starts[c + 1] of the kept pairs followed by the others
         let run = |c: usize, out: &mut ChunkOut, bounds: &mut [f32]| {
+            let start = Instant::now();
             let range = starts[c]..starts[c + 1];
             let kept_range = range.start.min(kept)..range.end.min(kept);
             // the pairs to test: the kept ones the gap bounds do not skip (with their bound's
@@ -169,6 +196,7 @@ impl Detection {
                     tested.push((a, b, u32::MAX));
                 }
             }
+            let reported = Instant::now();
             // their sphere and capsule pairs' shape tests in lanes, then every pair's points
             // in order
             out.round_pairs.clear();
@@ -181,6 +209,7 @@ impl Detection {
             out.round_pairs.extend(pairs);
             out.round_tests.clear();
             round_lanes::test_pairs(found.colliders, &out.round_pairs, &mut out.round_tests);
+            let tested_in_lanes = Instant::now();
             out.points.clear();
             // the round pairs are the tested ones in order: the next one is this pair's, if any
             let mut round = out.round_pairs.iter().zip(&out.round_tests).peekable();
@@ -195,6 +224,11 @@ impl Detection {
                     *bound = gap;
                 }
             }
+            out.work = NarrowPhaseWork {
+                report: (reported - start).as_secs_f64(),
+                shape_tests: (tested_in_lanes - reported).as_secs_f64(),
+                points: tested_in_lanes.elapsed().as_secs_f64(),
+            };
         };
         let kept_start = |c: usize| starts[c].min(kept);
         let narrow_phase = Instant::now();
@@ -212,8 +246,11 @@ impl Detection {
         self.profile = DetectionProfile {
             records,
             broad_phase: broad_seconds,
+            broad_phase_parts: self.broad_phase.timing(),
             handover: handover_seconds,
             narrow_phase,
+            narrow_phase_work: (self.chunks[..chunks].iter())
+                .fold(NarrowPhaseWork::default(), |sum, c| sum.add(c.work)),
             concatenate: concatenation.elapsed().as_secs_f64(),
             rebuilt,
             pairs_tested: self.chunks[..chunks].iter().map(|c| c.tested.len()).sum(),
@@ -319,6 +356,8 @@ struct ChunkOut {
     round_tests: Vec<RoundResult>,
     /// Pairs whose gap bound proved them out of reach this step.
     skipped: usize,
+    /// This chunk's share of [`DetectionProfile::narrow_phase_work`].
+    work: NarrowPhaseWork,
 }
 
 /// What the narrow phase of one pair reads.

@@ -184,8 +184,9 @@ fn the_step_profile_accounts_for_the_step() {
     );
 }
 
-/// Detection's pieces (`Contacts::detection_profile`) lie within the step's detect phase, a new
-/// world's first detection rebuilds its pairs, and every body pair with a point was tested.
+/// Detection's pieces (`Contacts::detection_profile`) lie within the step's detect phase, and
+/// the broad and narrow phases' parts within them; a new world's first detection rebuilds its
+/// pairs, and every body pair with a point was tested.
 #[test]
 fn the_detection_profile_accounts_for_detection() {
     let _alone = one_at_a_time();
@@ -207,6 +208,21 @@ fn the_detection_profile_accounts_for_detection() {
         assert!(
             pieces <= detect,
             "pieces {pieces} s of detect's {detect} s: {d:?}"
+        );
+        // the broad phase's parts lie within it; the narrow phase's work, summed over its
+        // threads, within its wall time on each thread, and some of it goes to every part
+        let broad = d.broad_phase_parts;
+        assert!(broad.boxes > 0.0 && broad.pairs > 0.0, "{d:?}");
+        assert!(broad.boxes + broad.pairs <= d.broad_phase, "{d:?}");
+        let work = d.narrow_phase_work;
+        let threads = rayon::current_num_threads() as f64;
+        assert!(
+            work.report > 0.0 && work.shape_tests > 0.0 && work.points > 0.0,
+            "{d:?}"
+        );
+        assert!(
+            work.report + work.shape_tests + work.points <= threads * d.narrow_phase,
+            "{d:?}"
         );
         let mut pairs: Vec<(u32, u32)> = (lab.world.contacts.points.iter())
             .map(|p| (p.body_a.0, p.body_b.0))

@@ -70,6 +70,7 @@ use crate::math::Vec3;
 use crate::shape::Shape;
 use grid::{Aabb, Bits};
 pub use joined::Joined;
+use std::time::Instant;
 
 /// How much larger than its tight box (m, each side) a body's fat box is: a body resting or
 /// swinging by a few centimetres keeps its fat box, and its pairs, for many steps.
@@ -238,6 +239,18 @@ pub struct BroadPhase {
     /// Rebuilds of the fat pairs so far, by groups or from the grid (a settled world rebuilds
     /// rarely).
     pub rebuilds: u64,
+    /// Where the last update's time went.
+    timing: UpdateTiming,
+}
+
+/// Where the broad phase's last [`BroadPhase::update`] spent its wall time (s).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct UpdateTiming {
+    /// Each body's tight box, and a new fat box for those that left theirs.
+    pub boxes: f64,
+    /// The kept pairs rebuilt (their gap bounds carried over), or brought up to date for the
+    /// bodies that moved.
+    pub pairs: f64,
 }
 
 impl BroadPhase {
@@ -279,6 +292,8 @@ impl BroadPhase {
     /// Brings the fat boxes and the kept pairs up to this step's bodies. Returns false when
     /// nothing moves (then there are no pairs).
     pub fn update(&mut self, bodies: &[Collider], dt: f32, margin: f32) -> bool {
+        let start = Instant::now();
+        self.timing = UpdateTiming::default();
         let mut rebuild = std::mem::take(&mut self.joined_changed);
         if self.proxies.len() + self.half_spaces.len() != bodies.len() {
             self.fat_pairs.clear(); // indices into the old proxies: their bounds mean nothing now
@@ -338,6 +353,8 @@ impl BroadPhase {
         self.moved.clear();
         let moved = (0..).zip(&self.proxies).filter(|(_, p)| p.moved);
         self.moved.extend(moved.map(|(i, _)| i));
+        let boxes_done = Instant::now();
+        self.timing.boxes = (boxes_done - start).as_secs_f64();
         if movable == 0 {
             return false; // nothing moves: no pair can change
         }
@@ -347,6 +364,12 @@ impl BroadPhase {
         if rebuild {
             self.rebuild();
         }
+        self.timing.pairs = boxes_done.elapsed().as_secs_f64();
         true
+    }
+
+    /// Where the last [`Self::update`]'s time went.
+    pub fn timing(&self) -> UpdateTiming {
+        self.timing
     }
 }
