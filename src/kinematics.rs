@@ -18,18 +18,15 @@ pub fn chain_points(length: f32, psi: f32, weights: &[f32]) -> Vec<Vec3> {
     let mut points = vec![Vec3::ZERO];
     let mut direction = Vec3::Y;
     let mut p = Vec3::ZERO;
-    for i in 0..=n {
-        let segment = if i == 0 || i == n {
-            length / (2 * n) as f32
-        } else {
-            length / n as f32
-        };
+    // half segments at the ends, whole ones between, each corner turning by its weight's share
+    for (i, &weight) in weights.iter().enumerate() {
+        let segment = if i == 0 { 0.5 } else { 1.0 } * length / n as f32;
         p += segment * direction;
         points.push(p);
-        if i < n {
-            direction = Quat::from_rotation_x(psi * weights[i]) * direction;
-        }
+        direction = Quat::from_rotation_x(psi * weight) * direction;
     }
+    p += length / (2 * n) as f32 * direction;
+    points.push(p);
     points
 }
 

@@ -178,7 +178,7 @@ impl Observer for RowPrinter<'_> {
     }
 
     fn frame(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()> {
-        if self.every > 0 && lab.world.frame % self.every as u64 == 0 {
+        if self.every > 0 && lab.world.frame.is_multiple_of(self.every as u64) {
             for (ragdoll, r) in lab.ragdolls.iter().zip(&metrics.ragdolls) {
                 report!(
                     "  {:>6} {:>8.3} {:<14} {:>10.4} {:>10.5} {:>14.4}",

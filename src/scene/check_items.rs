@@ -75,7 +75,7 @@ pub(super) fn check_rod(
     body_names: &[&str],
     at: impl Fn(&str) -> Vec<Seg>,
 ) -> Result<(), Failure> {
-    check_pair(&r.a, &r.b, &body_names).map_err(|(f, m)| (at(f), m))?;
+    check_pair(&r.a, &r.b, body_names).map_err(|(f, m)| (at(f), m))?;
     if let Some(l) = r
         .rest_length
         .filter(|l| !(*l > 0.0 && *l <= bounds::MAX_SIZE))
@@ -99,7 +99,7 @@ pub(super) fn check_joint(
     body_names: &[&str],
     at: impl Fn(&str) -> Vec<Seg>,
 ) -> Result<(), Failure> {
-    check_pair(&j.a, &j.b, &body_names).map_err(|(f, m)| (at(f), m))?;
+    check_pair(&j.a, &j.b, body_names).map_err(|(f, m)| (at(f), m))?;
     bounds::check_joint(j).map_err(|(f, m)| (at(f), m))?;
     check_relaxation(j.spring).map_err(|m| (at("spring"), m))?;
     if Vec3::from(j.axis).length() < 1e-6 {

@@ -277,7 +277,7 @@ pub(super) mod tests {
             old.sort_unstable();
             old.dedup();
             let dropped = next(7) as u32 + 2;
-            let keep = |x: &u32| x % dropped != 0;
+            let keep = |x: &u32| !x.is_multiple_of(dropped);
             let mut found: Vec<u32> = (0..next(12)).map(|_| next(110) as u32).collect();
             found.retain(|f| !old.iter().any(|o| o == f && keep(o)));
             found.sort_unstable();

@@ -41,6 +41,9 @@ impl IndexRuns {
     }
 }
 
+/// A list of proxy index pairs.
+type PairList = Vec<(u32, u32)>;
+
 /// The pairs of proxy indices below `n` (`runs.n`) sorted by (first, second) into `pairs`, as
 /// `sort_unstable` would order them (the pairs are distinct). Each part holds its pairs by the
 /// run of their first index (`run(part, r)`), so each run is sorted on its own, by two stable
@@ -55,7 +58,7 @@ pub(super) fn sort_pairs<T: Sync>(
     parts: &[T],
     run: impl Fn(&T, usize) -> &[(u32, u32)] + Sync,
     runs: IndexRuns,
-    (pairs, scratch): (&mut Vec<(u32, u32)>, &mut Vec<(u32, u32)>),
+    (pairs, scratch): (&mut PairList, &mut PairList),
     counts: &mut Vec<u32>,
 ) {
     let (n, run) = (runs.n, &run);

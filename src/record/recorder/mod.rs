@@ -254,7 +254,7 @@ impl Recorder {
 
     fn log_frame(&mut self, lab: &Lab, metrics: &FrameMetrics) -> anyhow::Result<()> {
         let world = &lab.world;
-        if world.frame % self.options.every.max(1) as u64 != 0 {
+        if !world.frame.is_multiple_of(self.options.every.max(1) as u64) {
             return Ok(()); // `[record] every = N`: frames 0, N, 2N, ...
         }
         let (frame, time) = (world.frame as i64, world.time);
