@@ -101,6 +101,16 @@ impl RapierWorld {
                 .impulse_joints
                 .insert(a, b, joint(j, iterations, s.dt), true);
         }
+        if let Some(&(a, b)) = world.constraints.contact_filters().first() {
+            bail!(
+                "bodies \"{}\" and \"{}\" are kept from colliding ({} pairs, a ragdoll's \
+                 `self_contacts`): the Rapier peer does not mirror contact filters; use \
+                 self_contacts = \"all\"",
+                world.body(a).name,
+                world.body(b).name,
+                world.constraints.contact_filters().len()
+            );
+        }
         Ok(RapierWorld { physics, handles })
     }
 

@@ -6,8 +6,13 @@
 //! mutable borrow, so a cache keyed by the stamp (and the bodies' sleep states) is rebuilt
 //! exactly when it may be stale. A stamp is drawn from one counter for the whole process: two
 //! lists share a stamp only when one is a clone of the other, unchanged since.
+//!
+//! Beside the joints and rods the list keeps body pairs that must never collide and are joined
+//! by nothing that would filter them: Box2D v3's filter joint, a joint with no rows (a ragdoll
+//! keeps its forearms out of its thighs this way, [`crate::ragdoll::SelfContacts`]).
 
 use super::Constraint;
+use crate::body::BodyId;
 use std::ops::{Deref, DerefMut};
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -23,13 +28,28 @@ fn fresh_stamp() -> u64 {
 #[derive(Clone, Debug)]
 pub struct Constraints {
     list: Vec<Constraint>,
+    /// Body pairs that never collide ([`Self::filter_contacts`]).
+    contact_filters: Vec<(BodyId, BodyId)>,
     stamp: u64,
 }
 
 impl Constraints {
-    /// An identifier of the list's contents: equal stamps mean equal lists.
+    /// An identifier of the list's contents (the constraints and the contact filters): equal
+    /// stamps mean equal lists.
     pub fn stamp(&self) -> u64 {
         self.stamp
+    }
+
+    /// Keeps bodies `a` and `b` from ever colliding, as a joint between them does, without a
+    /// joint (Box2D v3's filter joint).
+    pub fn filter_contacts(&mut self, a: BodyId, b: BodyId) {
+        self.stamp = fresh_stamp();
+        self.contact_filters.push((a, b));
+    }
+
+    /// The body pairs kept from colliding by [`Self::filter_contacts`].
+    pub fn contact_filters(&self) -> &[(BodyId, BodyId)] {
+        &self.contact_filters
     }
 }
 
@@ -43,6 +63,7 @@ impl From<Vec<Constraint>> for Constraints {
     fn from(list: Vec<Constraint>) -> Self {
         Constraints {
             list,
+            contact_filters: Vec::new(),
             stamp: fresh_stamp(),
         }
     }
@@ -100,6 +121,14 @@ mod tests {
         for _ in &mut list {}
         let after_loop = list.stamp();
         assert_ne!(after_loop, first);
+        list.filter_contacts(BodyId(0), BodyId(1));
+        assert_ne!(
+            list.stamp(),
+            after_loop,
+            "a contact filter is part of the contents"
+        );
+        assert_eq!(list.contact_filters(), [(BodyId(0), BodyId(1))]);
+        let after_loop = list.stamp();
         assert_ne!(
             Constraints::default().stamp(),
             after_loop,

@@ -270,15 +270,16 @@ impl Detection {
     }
 }
 
-/// The body pairs the constraints join and that never collide (all but joints with
-/// `collide_connected`).
-pub fn joined(body_count: usize, constraints: &[Constraint]) -> Joined {
+/// The body pairs that never collide: those the constraints join (all but joints with
+/// `collide_connected`) and the contact filters ([`Constraints::filter_contacts`]).
+pub fn joined(body_count: usize, constraints: &Constraints) -> Joined {
     let pairs = constraints.iter().filter_map(|c| {
         let connected = matches!(c, Constraint::BallSocket(j) if j.collide_connected);
         let (a, b) = c.bodies();
         (!connected).then_some((a.0, b.0))
     });
-    Joined::new(body_count, pairs)
+    let filters = constraints.contact_filters().iter();
+    Joined::new(body_count, pairs.chain(filters.map(|&(a, b)| (a.0, b.0))))
 }
 
 /// Where each of `chunks` chunks of the candidates (`kept` kept pairs, then `others`) starts,

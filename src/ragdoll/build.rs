@@ -2,9 +2,11 @@
 //! bodies, the rod spine if any and the joints added to the world, in that order.
 
 use super::table::{has_part, joint_defs, joint_names, LimitDef, Part, PARTS, TOTAL_MASS};
-use super::{HumanoidSpec, Ragdoll, SpineKind};
+use super::{HumanoidSpec, Ragdoll, SelfContacts, SpineKind};
 use crate::body::{Body, BodyId, BodyKind};
 use crate::constraint::{AngularLimit, BallSocket, Constraint, Rod};
+use crate::contact::collider::Collider;
+use crate::contact::narrowphase;
 use crate::math::{Iso, Quat, Vec3};
 use crate::shape::Shape;
 use crate::skeleton::Skeleton;
@@ -38,6 +40,7 @@ pub fn build_humanoid(world: &mut World, spec: &HumanoidSpec) -> Result<Ragdoll,
         add_spine_rod(world, spec, first_body, index_of)?;
     }
     add_joints(world, spec, &parts, first_body, index_of);
+    filter_self_contacts(world, spec.self_contacts, &parts, first_body);
 
     let spine_bodies: Vec<(BodyId, f32)> = ["pelvis", "lower_spine", "upper_spine", "chest"]
         .iter()
@@ -61,6 +64,49 @@ pub fn build_humanoid(world: &mut World, spec: &HumanoidSpec) -> Result<Ragdoll,
             .map(|b| b.position)
             .collect(),
     })
+}
+
+/// Keeps the pairs of the ragdoll's bodies that `self_contacts` excludes from colliding
+/// ([`crate::constraint::Constraints::filter_contacts`]).
+fn filter_self_contacts(
+    world: &mut World,
+    self_contacts: SelfContacts,
+    parts: &[&Part],
+    first_body: usize,
+) {
+    if self_contacts == SelfContacts::All {
+        return;
+    }
+    // the standing reference pose: each part at its centre, unrotated
+    let margin = world.settings.contact_margin;
+    let at_rest: Vec<Collider> = (parts.iter())
+        .map(|p| {
+            let shape = Shape::Capsule {
+                half_height: p.half_height,
+                radius: p.radius,
+                axis: p.axis,
+            };
+            let body = Body::new(p.name, BodyKind::Dynamic, shape, 1.0);
+            Collider::new(&body.with_pose(v2(p.centre), Quat::IDENTITY))
+        })
+        .collect();
+    let mut features = Vec::new();
+    for i in 0..parts.len() {
+        for j in i + 1..parts.len() {
+            let filtered = match self_contacts {
+                SelfContacts::All => false,
+                SelfContacts::None => true,
+                SelfContacts::ApartAtRest => {
+                    features.clear();
+                    narrowphase::collide(&at_rest[i], &at_rest[j], margin, &mut features)
+                }
+            };
+            if filtered {
+                let body = |k: usize| BodyId((first_body + k) as u32);
+                world.constraints.filter_contacts(body(i), body(j));
+            }
+        }
+    }
 }
 
 /// The pose's joint names must be the spine's.

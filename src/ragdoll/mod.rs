@@ -57,6 +57,23 @@ impl std::fmt::Display for SpineKind {
     }
 }
 
+/// Which pairs of one ragdoll's bodies may collide with each other (bodies joined by a joint
+/// or the rod never do). Game ragdolls commonly filter more: Jolt's
+/// `Ragdoll::DisableParentChildCollisions` also filters the pairs that overlap in the pose it is
+/// given, and many games let no part of a ragdoll touch another.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum SelfContacts {
+    /// Every pair not joined (the default).
+    #[default]
+    All,
+    /// Not the pairs within the world's contact margin in the standing reference pose: the
+    /// humanoid's forearms hang against its pelvis and thighs there, four pairs.
+    ApartAtRest,
+    /// None: the ragdoll's bodies touch only other bodies.
+    None,
+}
+
 /// What to build.
 #[derive(Clone, Debug)]
 pub struct HumanoidSpec {
@@ -80,6 +97,8 @@ pub struct HumanoidSpec {
     pub rod: RodParams,
     /// Constant external forces (N) on parts, e.g. a push on the chest.
     pub forces: Vec<(String, Vec3)>,
+    /// Which of its own bodies may touch each other.
+    pub self_contacts: SelfContacts,
 }
 
 impl HumanoidSpec {
@@ -97,6 +116,7 @@ impl HumanoidSpec {
             fixed: Vec::new(),
             rod: RodParams::default(),
             forces: Vec::new(),
+            self_contacts: SelfContacts::All,
         }
     }
 }

@@ -125,6 +125,7 @@ fn humanoid_spec(d: &SceneDef, r: &RagdollDef) -> HumanoidSpec {
         spine_spring: r.spine_spring,
         limb_spring: r.limb_spring,
         fixed: r.fixed.clone(),
+        self_contacts: r.self_contacts,
         forces: r
             .forces
             .iter()

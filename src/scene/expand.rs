@@ -54,6 +54,7 @@ impl DropDef {
                     rod_length: None,
                     bend_twist: None,
                     forces: Default::default(),
+                    self_contacts: self.self_contacts,
                 }
             })
             .collect()

@@ -71,6 +71,23 @@ fn unknown_spine_names_the_field_and_choices() {
 }
 
 #[test]
+fn unknown_self_contacts_names_the_field_and_choices() {
+    let e = error_for(
+        r#"spine = "chain3""#,
+        "spine = \"chain3\"\nself_contacts = \"some\"",
+    );
+    let line = line_of("spine =") + 1;
+    assert!(
+        e.starts_with(&format!("scenes/x.toml:{line}: ragdoll[0].self_contacts: ")),
+        "{e}"
+    );
+    assert!(
+        e.contains("\"some\"") && e.contains("all, apart_at_rest, none"),
+        "{e}"
+    );
+}
+
+#[test]
 fn non_positive_mass_on_dynamic_body() {
     let e = error_for("mass = 1.0", "mass = 0.0");
     assert!(

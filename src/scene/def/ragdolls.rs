@@ -4,7 +4,7 @@
 use serde::Deserialize;
 
 use crate::constraint::{BendTwist, JointFlavour, LengthCorrection, TwistMode};
-use crate::ragdoll::SpineKind;
+use crate::ragdoll::{SelfContacts, SpineKind};
 
 /// `count` ragdolls on a grid of `columns` x `rows` per layer, layers stacked up by
 /// `spacing[1]`, each turned by a random yaw and tipped by a random angle (fixed `seed`).
@@ -30,6 +30,10 @@ pub struct DropDef {
     /// Largest tip away from upright (deg).
     #[serde(default = "default_tip")]
     pub max_tip: f32,
+    /// Which pairs of one ragdoll's bodies may collide: `all` (the default), `apart_at_rest`
+    /// or `none` ([`SelfContacts`]).
+    #[serde(default)]
+    pub self_contacts: SelfContacts,
 }
 
 fn default_tip() -> f32 {
@@ -84,4 +88,8 @@ pub struct RagdollDef {
     /// Constant external forces (N) on parts, e.g. `{ chest = [0.0, 0.0, 150.0] }`.
     #[serde(default)]
     pub forces: std::collections::BTreeMap<String, [f32; 3]>,
+    /// Which pairs of its bodies may collide: `all` (the default), `apart_at_rest` or `none`
+    /// ([`SelfContacts`]).
+    #[serde(default)]
+    pub self_contacts: SelfContacts,
 }

@@ -236,3 +236,78 @@ fn a_spinning_stick_does_not_pass_through_a_thin_wall() {
         );
     }
 }
+
+/// The pairs of one ragdoll's bodies with points when it stands on the floor, at rest or with
+/// its left leg crossed over the right, and how many points its bodies have with the floor.
+fn self_contact_pairs(
+    self_contacts: rodlab::ragdoll::SelfContacts,
+    crossed: bool,
+) -> (std::collections::BTreeSet<(String, String)>, usize) {
+    let mut world = World::new(settings());
+    plane(&mut world, Quat::IDENTITY);
+    let mut spec = HumanoidSpec::new("r", SpineKind::Chain3);
+    if crossed {
+        spec.joint_rotations = vec![("hip_l".into(), Quat::from_rotation_z(-0.3))];
+    }
+    spec.self_contacts = self_contacts;
+    build_humanoid(&mut world, &spec).unwrap();
+    let mut contacts = rodlab::contact::Contacts::default();
+    let (dt, margin) = (world.settings.dt, world.settings.contact_margin);
+    contacts.detect(&world.bodies, &world.constraints, dt, margin);
+    let part = |id: rodlab::body::BodyId| {
+        let name = &world.body(id).name;
+        name.strip_prefix("r/").map(str::to_string)
+    };
+    let mut pairs = std::collections::BTreeSet::new();
+    let mut floor = 0;
+    for p in &contacts.points {
+        match (part(p.body_a), part(p.body_b)) {
+            (Some(a), Some(b)) => {
+                pairs.insert((a.clone().min(b.clone()), a.max(b)));
+            }
+            _ => floor += 1,
+        }
+    }
+    (pairs, floor)
+}
+
+/// A ragdoll's `self_contacts`: `all` lets every pair not joined collide (at rest its forearms
+/// hang against its pelvis and thighs; a leg crossed over the other touches it), `apart_at_rest`
+/// filters the four pairs touching at rest but not the crossed legs, and `none` filters every
+/// pair of the ragdoll, while its feet still touch the floor.
+#[test]
+fn a_ragdolls_self_contacts_filter_its_own_pairs() {
+    use rodlab::ragdoll::SelfContacts;
+    let pair = |a: &str, b: &str| (a.to_string(), b.to_string());
+    let at_rest = [
+        pair("forearm_l", "pelvis"),
+        pair("forearm_r", "pelvis"),
+        pair("forearm_l", "thigh_l"),
+        pair("forearm_r", "thigh_r"),
+    ];
+    let thighs = pair("thigh_l", "thigh_r");
+    for crossed in [false, true] {
+        let (all, floor) = self_contact_pairs(SelfContacts::All, crossed);
+        let (apart, apart_floor) = self_contact_pairs(SelfContacts::ApartAtRest, crossed);
+        let (none, none_floor) = self_contact_pairs(SelfContacts::None, crossed);
+        assert!(floor >= 1, "a foot stands on the floor: {floor} points");
+        assert_eq!((apart_floor, none_floor), (floor, floor));
+        assert!(none.is_empty(), "{none:?}");
+        assert!(at_rest.iter().all(|p| !apart.contains(p)), "{apart:?}");
+        // apart_at_rest filters the pairs touching at rest and no other
+        let kept: std::collections::BTreeSet<_> = all.difference(&apart).collect();
+        assert!(
+            kept.iter().all(|p| at_rest.contains(p)),
+            "{all:?} / {apart:?}"
+        );
+        if crossed {
+            assert!(
+                all.contains(&thighs) && apart.contains(&thighs),
+                "{apart:?}"
+            );
+        } else {
+            assert_eq!(all, at_rest.iter().cloned().collect(), "at rest");
+            assert!(apart.is_empty(), "{apart:?}");
+        }
+    }
+}
