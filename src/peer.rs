@@ -1,6 +1,7 @@
 //! Rapier (`rapier3d` 0.36) as a peer engine on the speed/accuracy chart of [`crate::sweep`]:
-//! the same scene, built from rodlab's own [`World`] so both engines start from the identical
-//! state, stepped by Rapier and measured by rodlab's [`crate::metrics::FrameMetrics`] after every step.
+//! the same scene, built from rodlab's own [`World`](crate::world::World) so both engines start
+//! from the identical state, stepped by Rapier and measured by rodlab's
+//! [`crate::metrics::FrameMetrics`] after every step.
 //!
 //! Mapped one to one:
 //! - bodies: fixed, dynamic, kinematic (velocity based: it moves with its prescribed velocity,
@@ -16,7 +17,10 @@
 //!   twist limit on the frame's x axis (the same angle: `2 atan2(q_x, q_w)` of `F_a^-1 F_b`); a
 //!   hinge locks the other two axes; a swing cone is Rapier's coupled y-z limit, a true cone on
 //!   the angle between the two x axes;
-//! - a hard angular target (spring relaxation 1) locks all three angular axes at the rest pose.
+//! - a hard angular target (spring relaxation 1) locks all three angular axes at the rest pose;
+//! - contact filters (`Constraints::filter_contacts`, a ragdoll's `self_contacts`): a contact
+//!   pair filter hook over those colliders, which refuses the filtered pairs (and the jointed
+//!   ones) and otherwise keeps Rapier's default (no contacts between two non-dynamic bodies).
 //!
 //! Approximated:
 //! - friction: Rapier has one coefficient; we use rodlab's dynamic one, combined as the
@@ -46,10 +50,12 @@ use std::time::Instant;
 use anyhow::bail;
 use rapier3d::math::{Pose, Rotation, Vector};
 use rapier3d::prelude::{
-    CoefficientCombineRule, ColliderBuilder, GenericJoint, Group, InteractionGroups,
-    InteractionTestMode, JointAxesMask, JointAxis, MassProperties, PhysicsWorld, RigidBody,
-    RigidBodyBuilder, RigidBodyHandle, SharedShape,
+    ActiveHooks, CoefficientCombineRule, ColliderBuilder, ColliderHandle, GenericJoint, Group,
+    InteractionGroups, InteractionTestMode, JointAxesMask, JointAxis, MassProperties,
+    PairFilterContext, PhysicsHooks, PhysicsWorld, RigidBody, RigidBodyBuilder, RigidBodyHandle,
+    SharedShape, SolverFlags,
 };
+use std::collections::HashSet;
 
 use crate::body::{Body, BodyKind};
 use crate::constraint::{BallSocket, Constraint};
@@ -66,6 +72,32 @@ pub struct RapierWorld {
     /// Rapier's bodies, colliders, joints and pipeline.
     pub physics: PhysicsWorld,
     handles: Vec<RigidBodyHandle>,
+    /// The world's contact filters, as a hook (None: the world filters no pairs).
+    filters: Option<ContactFilters>,
+}
+
+/// The collider pairs never to collide, for Rapier's contact pair filter hook.
+struct ContactFilters(HashSet<(u32, u32)>);
+
+impl ContactFilters {
+    fn key(a: ColliderHandle, b: ColliderHandle) -> (u32, u32) {
+        let (a, b) = (a.into_raw_parts().0, b.into_raw_parts().0);
+        (a.min(b), a.max(b))
+    }
+}
+
+impl PhysicsHooks for ContactFilters {
+    fn filter_contact_pair(&self, pair: &PairFilterContext) -> Option<SolverFlags> {
+        if self.0.contains(&Self::key(pair.collider1, pair.collider2)) {
+            return None;
+        }
+        // a hook replaces Rapier's default filter: no contacts between two non-dynamic bodies
+        let dynamic = |c: ColliderHandle| {
+            (pair.colliders[c].parent()).is_some_and(|b| pair.bodies[b].is_dynamic())
+        };
+        (dynamic(pair.collider1) || dynamic(pair.collider2))
+            .then_some(SolverFlags::COMPUTE_RIGID_IMPULSES)
+    }
 }
 
 impl RapierWorld {
@@ -78,14 +110,28 @@ impl RapierWorld {
         params.dt = s.dt;
         params.num_solver_iterations = iterations.max(1) as usize;
         params.normalized_prediction_distance = s.contact_margin;
+        let filtered = world.constraints.contact_filters();
+        let mut hooked = vec![false; world.bodies.len()];
+        for &(a, b) in filtered {
+            (hooked[a.index()], hooked[b.index()]) = (true, true);
+        }
         let mut handles = Vec::with_capacity(world.bodies.len());
-        for b in &world.bodies {
+        let mut colliders = Vec::with_capacity(world.bodies.len());
+        for (b, &hooked) in world.bodies.iter().zip(&hooked) {
             let handle = physics.bodies.insert(rigid_body(b, s));
             physics.bodies[handle].add_force(to_rapier(b.external_force), false);
             if s.contacts {
-                physics
-                    .colliders
-                    .insert_with_parent(collider(b), handle, &mut physics.bodies);
+                let mut builder = collider(b);
+                if hooked {
+                    builder = builder.active_hooks(ActiveHooks::FILTER_CONTACT_PAIRS);
+                }
+                let collider =
+                    physics
+                        .colliders
+                        .insert_with_parent(builder, handle, &mut physics.bodies);
+                colliders.push(Some(collider));
+            } else {
+                colliders.push(None);
             }
             handles.push(handle);
         }
@@ -101,22 +147,31 @@ impl RapierWorld {
                 .impulse_joints
                 .insert(a, b, joint(j, iterations, s.dt), true);
         }
-        if let Some(&(a, b)) = world.constraints.contact_filters().first() {
-            bail!(
-                "bodies \"{}\" and \"{}\" are kept from colliding ({} pairs, a ragdoll's \
-                 `self_contacts`): the Rapier peer does not mirror contact filters; use \
-                 self_contacts = \"all\"",
-                world.body(a).name,
-                world.body(b).name,
-                world.constraints.contact_filters().len()
-            );
-        }
-        Ok(RapierWorld { physics, handles })
+        // the filtered pairs, and the jointed ones (which the hook must refuse too, as it
+        // replaces the filtering of the pairs it is asked about)
+        let jointed = (world.constraints.iter())
+            .filter(|c| !matches!(c, Constraint::BallSocket(j) if j.collide_connected))
+            .map(|c| c.bodies());
+        let pairs = filtered.iter().copied().chain(jointed);
+        let keys = pairs.filter_map(|(a, b)| {
+            let (a, b) = (colliders[a.index()]?, colliders[b.index()]?);
+            Some(ContactFilters::key(a, b))
+        });
+        let filters = (!filtered.is_empty() && s.contacts).then(|| ContactFilters(keys.collect()));
+        Ok(RapierWorld {
+            physics,
+            handles,
+            filters,
+        })
     }
 
-    /// One Rapier step (`PhysicsPipeline::step`, no hooks, no events).
+    /// One Rapier step (`PhysicsPipeline::step`, no events; the contact filter hook where the
+    /// world filters pairs).
     pub fn step(&mut self) {
-        self.physics.step();
+        match &self.filters {
+            Some(filters) => self.physics.step_with_events(filters, &()),
+            None => self.physics.step(),
+        }
     }
 
     /// Copies Rapier's poses and velocities into `world` (current and preview pose, which the
