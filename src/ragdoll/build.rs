@@ -1,5 +1,6 @@
 //! The humanoid builder: the spec checked, the parts posed by forward kinematics, then the
-//! bodies, the rod spine if any and the joints added to the world, in that order.
+//! bodies, the rod spine if any and the joints added to the world, in that order, then the
+//! pairs its `self_contacts` keeps from colliding.
 
 use super::table::{has_part, joint_defs, joint_names, LimitDef, Part, PARTS, TOTAL_MASS};
 use super::{HumanoidSpec, Ragdoll, SelfContacts, SpineKind};
@@ -81,12 +82,7 @@ fn filter_self_contacts(
     let margin = world.settings.contact_margin;
     let at_rest: Vec<Collider> = (parts.iter())
         .map(|p| {
-            let shape = Shape::Capsule {
-                half_height: p.half_height,
-                radius: p.radius,
-                axis: p.axis,
-            };
-            let body = Body::new(p.name, BodyKind::Dynamic, shape, 1.0);
+            let body = Body::new(p.name, BodyKind::Dynamic, part_shape(p), 1.0);
             Collider::new(&body.with_pose(v2(p.centre), Quat::IDENTITY))
         })
         .collect();
@@ -170,6 +166,15 @@ fn pose_parts(spec: &HumanoidSpec, parts: &[&Part], index_of: impl Fn(&str) -> u
     posed
 }
 
+/// A part's capsule.
+fn part_shape(p: &Part) -> Shape {
+    Shape::Capsule {
+        half_height: p.half_height,
+        radius: p.radius,
+        axis: p.axis,
+    }
+}
+
 /// One body per part at its starting pose; with `single` and `rod`, pelvis and chest also take
 /// the removed spine bodies' mass.
 fn add_bodies(world: &mut World, spec: &HumanoidSpec, parts: &[&Part], posed: &[Iso]) {
@@ -192,11 +197,7 @@ fn add_bodies(world: &mut World, spec: &HumanoidSpec, parts: &[&Part], posed: &[
             } else {
                 0.0
             };
-        let shape = Shape::Capsule {
-            half_height: p.half_height,
-            radius: p.radius,
-            axis: p.axis,
-        };
+        let shape = part_shape(p);
         let mut body = Body::new(format!("{}/{}", spec.name, p.name), kind, shape, mass)
             .with_pose(pose.translation, pose.rotation);
         body.external_force = spec
