@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use clap::{Args, Parser, Subcommand};
 
 use crate::constraint::{BendTwist, JointFlavour, TwistMode};
-use crate::ragdoll::SpineKind;
+use crate::ragdoll::{SelfContacts, SpineKind};
 use crate::scene::{RodOverrides, SoftnessOverride};
 use crate::sim::Overrides;
 use crate::world::{ContactDetection, SolverKind};
@@ -228,6 +228,9 @@ pub struct OverrideArgs {
     /// Ball-and-socket solver: cheap or exact.
     #[arg(long, value_parser = parse_choice::<JointFlavour>)]
     pub joint: Option<JointFlavour>,
+    /// Which pairs of each ragdoll's own bodies may collide: all, apart_at_rest or none.
+    #[arg(long, value_parser = parse_choice::<SelfContacts>)]
+    pub self_contacts: Option<SelfContacts>,
     /// Rod bending relaxation alpha_b in [0, 1].
     #[arg(long, value_parser = unit_interval)]
     pub alpha_b: Option<f32>,
@@ -275,6 +278,7 @@ impl From<&OverrideArgs> for Overrides {
             contact_detection: a.contact_detection,
             angular_speed_limit: a.angular_speed_limit,
             joint_damping: a.joint_damping,
+            self_contacts: a.self_contacts,
             dt: a.dt,
             frames: a.frames,
             spine: a.spine,

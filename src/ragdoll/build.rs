@@ -41,7 +41,13 @@ pub fn build_humanoid(world: &mut World, spec: &HumanoidSpec) -> Result<Ragdoll,
         add_spine_rod(world, spec, first_body, index_of)?;
     }
     add_joints(world, spec, &parts, first_body, index_of);
-    filter_self_contacts(world, spec.self_contacts, &parts, first_body);
+    filter_self_contacts(
+        world,
+        spec.self_contacts,
+        &parts,
+        first_body,
+        first_constraint,
+    );
 
     let spine_bodies: Vec<(BodyId, f32)> = ["pelvis", "lower_spine", "upper_spine", "chest"]
         .iter()
@@ -68,16 +74,24 @@ pub fn build_humanoid(world: &mut World, spec: &HumanoidSpec) -> Result<Ragdoll,
 }
 
 /// Keeps the pairs of the ragdoll's bodies that `self_contacts` excludes from colliding
-/// ([`crate::constraint::Constraints::filter_contacts`]).
+/// ([`crate::constraint::Constraints::filter_contacts`]), but for those its joints and rod (from
+/// `first_constraint` on) already keep apart.
 fn filter_self_contacts(
     world: &mut World,
     self_contacts: SelfContacts,
     parts: &[&Part],
     first_body: usize,
+    first_constraint: usize,
 ) {
     if self_contacts == SelfContacts::All {
         return;
     }
+    let body = |k: usize| BodyId((first_body + k) as u32);
+    let joined: Vec<(BodyId, BodyId)> = (world.constraints[first_constraint..].iter())
+        .filter(|c| !matches!(c, Constraint::BallSocket(j) if j.collide_connected))
+        .map(|c| c.bodies())
+        .collect();
+    let is_joined = |a: BodyId, b: BodyId| joined.contains(&(a, b)) || joined.contains(&(b, a));
     // the standing reference pose: each part at its centre, unrotated
     let margin = world.settings.contact_margin;
     let at_rest: Vec<Collider> = (parts.iter())
@@ -89,6 +103,9 @@ fn filter_self_contacts(
     let mut features = Vec::new();
     for i in 0..parts.len() {
         for j in i + 1..parts.len() {
+            if is_joined(body(i), body(j)) {
+                continue;
+            }
             let filtered = match self_contacts {
                 SelfContacts::All => false,
                 SelfContacts::None => true,
@@ -98,7 +115,6 @@ fn filter_self_contacts(
                 }
             };
             if filtered {
-                let body = |k: usize| BodyId((first_body + k) as u32);
                 world.constraints.filter_contacts(body(i), body(j));
             }
         }

@@ -5,14 +5,14 @@ use serde::Deserialize;
 
 use super::SceneDef;
 use crate::constraint::{BendTwist, JointFlavour, TwistMode};
-use crate::ragdoll::SpineKind;
+use crate::ragdoll::{SelfContacts, SpineKind};
 use crate::world::{ContactDetection, SolverKind};
 
 /// Overrides of a scene file's settings: the command line's, or a `[[variant]]`'s, which is
 /// read straight into this type; `None` keeps the file's.
 ///
 /// A `[[variant]]` names itself and may set the method fields, `iterations` through
-/// `angular_speed_limit`. The fields marked "command line only" are not read from a scene file,
+/// `self_contacts`. The fields marked "command line only" are not read from a scene file,
 /// so a variant that sets one is refused as an unknown field, at its line.
 #[derive(Clone, Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -49,6 +49,8 @@ pub struct Overrides {
     pub joint_damping: Option<f32>,
     /// Angular speed a body's spin is scaled down to each substep (rad/s; inf: none).
     pub angular_speed_limit: Option<f32>,
+    /// Which pairs of each ragdoll's own bodies may collide ([`SelfContacts`]).
+    pub self_contacts: Option<SelfContacts>,
     /// Frame time step (s). Command line only.
     #[serde(skip)]
     pub dt: Option<f32>,
@@ -92,8 +94,8 @@ pub struct SoftnessOverride {
 }
 
 impl Overrides {
-    /// Writes the overrides that are set into `def`: settings, and spine, flavour and rod settings
-    /// on every ragdoll, joint and rod.
+    /// Writes the overrides that are set into `def`: settings, and spine, self-contacts, flavour
+    /// and rod settings on every ragdoll, joint and rod.
     pub fn apply(&self, def: &mut SceneDef) {
         set(&mut def.iterations, self.iterations);
         set(&mut def.substeps, self.substeps);
@@ -111,6 +113,9 @@ impl Overrides {
         set(&mut def.dt, self.dt);
         set(&mut def.frames, self.frames);
         set(&mut def.record.every, self.record_every);
+        if let Some(self_contacts) = self.self_contacts {
+            (def.ragdoll.iter_mut()).for_each(|r| r.self_contacts = self_contacts);
+        }
         if let Some(spine) = self.spine {
             def.ragdoll.iter_mut().for_each(|r| r.spine = spine);
         }

@@ -311,3 +311,44 @@ fn a_ragdolls_self_contacts_filter_its_own_pairs() {
         }
     }
 }
+
+/// `self_contacts` set by a `[[variant]]` or the command line (`--self-contacts`, the same
+/// [`rodlab::scene::Overrides`]) reaches every ragdoll, those of a `[drop]` block included: none
+/// filters each chain3 ragdoll's 66 part pairs not joined (13 parts, 12 joints), apart_at_rest
+/// its 4, and the file's `all` none.
+#[test]
+fn self_contacts_reach_every_ragdoll_from_a_variant_or_the_command_line() {
+    let text = r#"
+dt = 0.016666668
+iterations = 4
+frames = 10
+contacts = true
+[drop]
+count = 2
+spine = "chain3"
+first = [0.0, 1.0, 0.0]
+spacing = [1.0, 2.0, 1.0]
+columns = 2
+rows = 1
+[[ragdoll]]
+name = "alone"
+position = [0.0, 0.0, 3.0]
+[[variant]]
+name = "no_self_contacts"
+self_contacts = "none"
+"#;
+    let scene = rodlab::scene::Scene::parse("scenes/x.toml", text).unwrap();
+    let filters = |scene: &rodlab::scene::Scene| {
+        let lab = scene.build().unwrap();
+        lab.world.constraints.contact_filters().len()
+    };
+    assert_eq!(filters(&scene), 0, "the file's default: all");
+    assert_eq!(filters(&scene.variant("no_self_contacts").unwrap()), 3 * 66);
+    let mut at_rest = scene.clone();
+    rodlab::scene::Overrides {
+        self_contacts: Some(rodlab::ragdoll::SelfContacts::ApartAtRest),
+        ..Default::default()
+    }
+    .apply(&mut at_rest.def);
+    assert_eq!(filters(&at_rest), 3 * 4);
+}
