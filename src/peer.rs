@@ -149,11 +149,7 @@ impl RapierWorld {
         }
         // the filtered pairs, and the jointed ones (which the hook must refuse too, as it
         // replaces the filtering of the pairs it is asked about)
-        let jointed = (world.constraints.iter())
-            .filter(|c| !matches!(c, Constraint::BallSocket(j) if j.collide_connected))
-            .map(|c| c.bodies());
-        let pairs = filtered.iter().copied().chain(jointed);
-        let keys = pairs.filter_map(|(a, b)| {
+        let keys = world.constraints.pairs_kept_apart().filter_map(|(a, b)| {
             let (a, b) = (colliders[a.index()]?, colliders[b.index()]?);
             Some(ContactFilters::key(a, b))
         });

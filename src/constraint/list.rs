@@ -51,6 +51,15 @@ impl Constraints {
     pub fn contact_filters(&self) -> &[(BodyId, BodyId)] {
         &self.contact_filters
     }
+
+    /// Every body pair that never collides: those a constraint joins
+    /// ([`Constraint::keeps_bodies_apart`]), then the contact filters.
+    pub fn pairs_kept_apart(&self) -> impl Iterator<Item = (BodyId, BodyId)> + Clone + '_ {
+        let joined = self.list.iter().filter(|c| c.keeps_bodies_apart());
+        joined
+            .map(Constraint::bodies)
+            .chain(self.contact_filters.iter().copied())
+    }
 }
 
 impl Default for Constraints {

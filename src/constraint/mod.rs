@@ -66,6 +66,12 @@ impl Constraint {
         }
     }
 
+    /// Whether its two bodies never collide: every constraint but a joint that asks to
+    /// (`collide_connected`).
+    pub fn keeps_bodies_apart(&self) -> bool {
+        !matches!(self, Constraint::BallSocket(joint) if joint.collide_connected)
+    }
+
     /// One projection of this constraint on the bodies' poses, outside a step (tests and tools;
     /// the solver works on rows and [`SolverBody`]s): the poses are the preview, and get the
     /// projection. Limits unwrap their twist against the bodies' orientations.

@@ -17,7 +17,7 @@ use super::handover::Handover;
 use super::round_lanes::{self, round_radius, RoundPair, RoundResult, RoundTest};
 use super::{manifold, narrowphase, ContactPoint, PARALLEL_PAIRS};
 use crate::body::{Body, BodyId};
-use crate::constraint::{Constraint, Constraints};
+use crate::constraint::Constraints;
 use std::time::Instant;
 
 /// How many kept pairs' work one of the others (a large box's or a half-space's pair: all
@@ -270,16 +270,11 @@ impl Detection {
     }
 }
 
-/// The body pairs that never collide: those the constraints join (all but joints with
-/// `collide_connected`) and the contact filters ([`Constraints::filter_contacts`]).
+/// The body pairs that never collide ([`Constraints::pairs_kept_apart`]), as the broad phase
+/// reads them.
 pub fn joined(body_count: usize, constraints: &Constraints) -> Joined {
-    let pairs = constraints.iter().filter_map(|c| {
-        let connected = matches!(c, Constraint::BallSocket(j) if j.collide_connected);
-        let (a, b) = c.bodies();
-        (!connected).then_some((a.0, b.0))
-    });
-    let filters = constraints.contact_filters().iter();
-    Joined::new(body_count, pairs.chain(filters.map(|&(a, b)| (a.0, b.0))))
+    let pairs = constraints.pairs_kept_apart().map(|(a, b)| (a.0, b.0));
+    Joined::new(body_count, pairs)
 }
 
 /// Where each of `chunks` chunks of the candidates (`kept` kept pairs, then `others`) starts,

@@ -88,8 +88,8 @@ fn filter_self_contacts(
     }
     let body = |k: usize| BodyId((first_body + k) as u32);
     let joined: Vec<(BodyId, BodyId)> = (world.constraints[first_constraint..].iter())
-        .filter(|c| !matches!(c, Constraint::BallSocket(j) if j.collide_connected))
-        .map(|c| c.bodies())
+        .filter(|c| c.keeps_bodies_apart())
+        .map(Constraint::bodies)
         .collect();
     let is_joined = |a: BodyId, b: BodyId| joined.contains(&(a, b)) || joined.contains(&(b, a));
     // the standing reference pose: each part at its centre, unrotated
