@@ -88,3 +88,31 @@ pub fn static_texts(chunks: &[Chunk], entity: &str, component: &str) -> Vec<Stri
         })
         .collect()
 }
+
+/// A chain3 ragdoll ("r") standing on a floor (body 0) with contacts on, at rest or with its
+/// left leg crossed over the right, filtering its own pairs as `self_contacts` says.
+pub fn ragdoll_on_a_floor(
+    self_contacts: rodlab::ragdoll::SelfContacts,
+    crossed: bool,
+) -> rodlab::world::World {
+    use rodlab::body::{Body, BodyKind};
+    use rodlab::math::{Quat, Vec3};
+    use rodlab::ragdoll::{build_humanoid, HumanoidSpec, SpineKind};
+    use rodlab::shape::Shape;
+    use rodlab::world::{Settings, World};
+    let mut world = World::new(Settings {
+        contacts: true,
+        ..Settings::default()
+    });
+    world.add_body(
+        Body::new("floor", BodyKind::Fixed, Shape::HalfSpace, 1.0)
+            .with_pose(Vec3::ZERO, Quat::IDENTITY),
+    );
+    let mut spec = HumanoidSpec::new("r", SpineKind::Chain3);
+    if crossed {
+        spec.joint_rotations = vec![("hip_l".into(), Quat::from_rotation_z(-0.3))];
+    }
+    spec.self_contacts = self_contacts;
+    build_humanoid(&mut world, &spec).unwrap();
+    world
+}

@@ -137,23 +137,7 @@ fn a_rod_spine_is_refused() {
 /// Rapier's contacts between the dynamic bodies of a ragdoll standing on a floor with its left
 /// leg crossed over the right (the floor is the only other body), after one step.
 fn rapier_self_contacts(self_contacts: rodlab::ragdoll::SelfContacts) -> usize {
-    use rodlab::body::{Body, BodyKind};
-    use rodlab::math::{Quat, Vec3};
-    use rodlab::ragdoll::{build_humanoid, HumanoidSpec};
-    use rodlab::shape::Shape;
-    use rodlab::world::{Settings, World};
-    let mut world = World::new(Settings {
-        contacts: true,
-        ..Settings::default()
-    });
-    world.add_body(
-        Body::new("floor", BodyKind::Fixed, Shape::HalfSpace, 1.0)
-            .with_pose(Vec3::ZERO, Quat::IDENTITY),
-    );
-    let mut spec = HumanoidSpec::new("r", SpineKind::Chain3);
-    spec.joint_rotations = vec![("hip_l".into(), Quat::from_rotation_z(-0.3))];
-    spec.self_contacts = self_contacts;
-    build_humanoid(&mut world, &spec).unwrap();
+    let world = crate::common::ragdoll_on_a_floor(self_contacts, true);
     let mut rapier = RapierWorld::new(&world, 4).unwrap();
     rapier.step();
     let physics = &rapier.physics;

@@ -243,14 +243,7 @@ fn self_contact_pairs(
     self_contacts: rodlab::ragdoll::SelfContacts,
     crossed: bool,
 ) -> (std::collections::BTreeSet<(String, String)>, usize) {
-    let mut world = World::new(settings());
-    plane(&mut world, Quat::IDENTITY);
-    let mut spec = HumanoidSpec::new("r", SpineKind::Chain3);
-    if crossed {
-        spec.joint_rotations = vec![("hip_l".into(), Quat::from_rotation_z(-0.3))];
-    }
-    spec.self_contacts = self_contacts;
-    build_humanoid(&mut world, &spec).unwrap();
+    let world = crate::common::ragdoll_on_a_floor(self_contacts, crossed);
     let mut contacts = rodlab::contact::Contacts::default();
     let (dt, margin) = (world.settings.dt, world.settings.contact_margin);
     contacts.detect(&world.bodies, &world.constraints, dt, margin);
