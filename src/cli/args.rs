@@ -260,6 +260,10 @@ pub struct OverrideArgs {
     /// Record every N-th frame (frames 0, N, 2N, ...): a smaller file of a long run.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     pub record_every: Option<u32>,
+    /// Seed of the `[drop]` block's layout (each ragdoll's random yaw and tip): another
+    /// sample of the same drop.
+    #[arg(long)]
+    pub seed: Option<u64>,
 }
 
 impl From<&OverrideArgs> for Overrides {
@@ -279,6 +283,7 @@ impl From<&OverrideArgs> for Overrides {
             angular_speed_limit: a.angular_speed_limit,
             joint_damping: a.joint_damping,
             self_contacts: a.self_contacts,
+            seed: a.seed,
             dt: a.dt,
             frames: a.frames,
             spine: a.spine,

@@ -66,6 +66,9 @@ pub struct Overrides {
     /// Record every N-th frame. Command line only.
     #[serde(skip)]
     pub record_every: Option<u32>,
+    /// The `[drop]` block's layout seed (each ragdoll's yaw and tip). Command line only.
+    #[serde(skip)]
+    pub seed: Option<u64>,
 }
 
 /// The command line's settings of every rod and rod spine.
@@ -97,6 +100,16 @@ impl Overrides {
     /// Writes the overrides that are set into `def`: settings, and spine, self-contacts, flavour
     /// and rod settings on every ragdoll, joint and rod.
     pub fn apply(&self, def: &mut SceneDef) {
+        if let (Some(seed), Some(drop)) = (self.seed, def.drop.as_mut()) {
+            // the block's ragdolls were appended to the file's own when it was parsed; only
+            // their poses depend on the seed, so what a variant set on them stays
+            drop.seed = seed;
+            let laid_out = drop.expand();
+            let first = def.ragdoll.len() - laid_out.len();
+            for (r, fresh) in def.ragdoll[first..].iter_mut().zip(laid_out) {
+                (r.position, r.rotation) = (fresh.position, fresh.rotation);
+            }
+        }
         set(&mut def.iterations, self.iterations);
         set(&mut def.substeps, self.substeps);
         set(&mut def.solver, self.solver);
@@ -171,6 +184,9 @@ impl Overrides {
     /// What the overrides cannot do to `def` (after [`Overrides::apply`]): rod settings for a
     /// scene without rods, damping without a stiffness to damp. An error names the flag.
     pub fn check_applied(&self, def: &SceneDef) -> Result<(), String> {
+        if self.seed.is_some() && def.drop.is_none() {
+            return Err("--seed lays out a [drop] block's ragdolls, and the scene has none".into());
+        }
         let rod_spines = || def.ragdoll.iter().filter(|r| r.spine == SpineKind::Rod);
         let has_rods = rod_spines().next().is_some() || !def.rod.is_empty();
         let RodOverrides { bend, twist, .. } = self.rod;

@@ -832,3 +832,69 @@ fn record_every_zero_names_its_field() {
         "{e}"
     );
 }
+
+/// `--seed` lays a `[drop]` block's ragdolls out again, as the file would with that seed: new
+/// yaws and tips at the same grid places, what a variant set on them kept, the file's own
+/// ragdolls untouched; on a scene without a `[drop]` block it is an error naming the flag.
+#[test]
+fn seed_lays_out_the_drop_again_and_needs_a_drop_block() {
+    use rodlab::sim::Overrides;
+    let text = |seed: u64| {
+        format!(
+            r#"
+dt = 0.016666668
+iterations = 4
+frames = 10
+[drop]
+count = 3
+spine = "chain3"
+first = [0.0, 1.0, 0.0]
+spacing = [1.0, 2.0, 1.0]
+columns = 2
+rows = 1
+seed = {seed}
+[[ragdoll]]
+name = "alone"
+position = [0.0, 0.0, 3.0]
+[[variant]]
+name = "no_self_contacts"
+self_contacts = "none"
+"#
+        )
+    };
+    let parse = |seed| Scene::parse("scenes/x.toml", &text(seed)).unwrap();
+    let mut reseeded = parse(7).variant("no_self_contacts").unwrap();
+    let seeded = Overrides {
+        seed: Some(99),
+        ..Default::default()
+    };
+    seeded.apply(&mut reseeded.def);
+    seeded.check_applied(&reseeded.def).unwrap();
+    let (file7, file99) = (parse(7), parse(99));
+    let poses = |def: &rodlab::scene::SceneDef| -> Vec<([f32; 3], [f32; 3])> {
+        def.ragdoll
+            .iter()
+            .map(|r| (r.position, r.rotation))
+            .collect()
+    };
+    assert_eq!(poses(&reseeded.def), poses(&file99.def));
+    assert_ne!(
+        poses(&reseeded.def),
+        poses(&file7.def),
+        "the seed moved nothing"
+    );
+    let names: Vec<&str> = reseeded
+        .def
+        .ragdoll
+        .iter()
+        .map(|r| r.name.as_str())
+        .collect();
+    assert_eq!(names, ["alone", "drop00", "drop01", "drop02"]);
+    assert_eq!(reseeded.def.ragdoll[0].position, [0.0, 0.0, 3.0]);
+    assert!((reseeded.def.ragdoll.iter())
+        .all(|r| r.self_contacts == rodlab::ragdoll::SelfContacts::None));
+    let mut no_drop = Scene::parse("scenes/x.toml", GOOD).unwrap();
+    seeded.apply(&mut no_drop.def);
+    let e = seeded.check_applied(&no_drop.def).unwrap_err();
+    assert!(e.starts_with("--seed lays out a [drop] block"), "{e}");
+}
