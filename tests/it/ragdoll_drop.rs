@@ -239,6 +239,23 @@ fn the_detection_profile_accounts_for_detection() {
     }
 }
 
+/// The drop at its `at_rest` variant on layout `seed` with one spine, at the variant's push
+/// speed or `push_speed`; returns the final lab and the run's report.
+fn drop_at_rest(seed: u64, spine: SpineKind, push_speed: Option<f32>) -> (Lab, sim::RunReport) {
+    let mut scene = Scene::load(SCENE).unwrap().variant("at_rest").unwrap();
+    Overrides {
+        spine: Some(spine),
+        seed: Some(seed),
+        contact_push_speed: push_speed,
+        ..Default::default()
+    }
+    .apply(&mut scene.def);
+    assert!(scene.def.sleep && scene.def.joint_damping > 0.0);
+    let mut lab = scene.build().unwrap();
+    let report = sim::run(&mut lab, scene.def.frames, &mut sim::NoObserver).unwrap();
+    (lab, report)
+}
+
 /// The drop at rest (issue 10): at the scene's `at_rest` variant (4 substeps of 4 iterations,
 /// SIMD, exact joints, contacts warm-started at 0.25 and soft at 60 Hz, joint damping 0.1
 /// N m s/rad, sleeping on) the pile is asleep, or has every surface point under the sleep
@@ -247,32 +264,20 @@ fn the_detection_profile_accounts_for_detection() {
 /// awake at frame 600, their limbs twisting back and forth every substep across an elbow; since
 /// the exact flavour aligns a hinge's axes as one 2x2 block, 0, 0 and 3 of the 26 in three
 /// builds that differ only in rounding, the 3 moved by late slides in the pile
-/// (docs/benchmarks.md, stop 35). At rest the overlapping contact points overlap by under
-/// 2 mm on average (measured 0.63 mm chain3, 0.85 mm rod; 2.8-2.9 mm with 30 Hz contacts, which
-/// sink further under a pile).
+/// (docs/benchmarks.md, stop 35). Layout 6 (rod) is the trapped forearm's (docs/solver.md, Push
+/// speed): without the variant's 5 m/s push speed one ragdoll flails on the floor to the end.
+/// At rest the overlapping contact points overlap by under 2 mm on average (measured 0.63 mm
+/// chain3, 0.85 mm rod; 2.8-2.9 mm with 30 Hz contacts, which sink further under a pile).
 #[test]
 fn the_drop_pile_falls_asleep_at_the_scenes_at_rest_variant() {
     use rodlab::sleep::SLEEP_SPEED;
     let _alone = one_at_a_time();
-    let text = std::fs::read_to_string(SCENE).unwrap();
-    let seeds = [7, 1, 2, 3];
+    let seeds = [7, 1, 2, 3, 6];
     let layouts = seeds
         .iter()
         .flat_map(|&s| [SpineKind::Chain3, SpineKind::Rod].map(|p| (s, p)));
     for (seed, spine) in layouts {
-        let text = text.replace("seed = 7", &format!("seed = {seed}"));
-        let mut scene = Scene::parse(SCENE, &text)
-            .unwrap()
-            .variant("at_rest")
-            .unwrap();
-        Overrides {
-            spine: Some(spine),
-            ..Default::default()
-        }
-        .apply(&mut scene.def);
-        assert!(scene.def.sleep && scene.def.joint_damping > 0.0);
-        let mut lab = scene.build().unwrap();
-        let report = sim::run(&mut lab, scene.def.frames, &mut sim::NoObserver).unwrap();
+        let (lab, report) = drop_at_rest(seed, spine, None);
         let dynamic = lab.world.bodies.iter().filter(|b| b.is_dynamic()).count();
         let asleep = lab.world.bodies.iter().filter(|b| b.is_asleep()).count();
         let first_all_asleep = report.awake_bodies.iter().position(|&n| n == 0);
@@ -311,6 +316,46 @@ fn the_drop_pile_falls_asleep_at_the_scenes_at_rest_variant() {
             "seed {seed}, {spine}: mean penetration at rest {mean} m (issue 10: 2 mm)"
         );
     }
+}
+
+/// Issue 10's drop at rest as a rate over many layouts rather than a few samples: the pile
+/// comes to rest in 10 s on nearly every layout at the `at_rest` variant's push speed, and on
+/// fewer with deep overlap pushed out at once. Measured over layouts 1-64 x both spines: 124
+/// of 128 at rest against 115 of 128 (docs/solver.md, Push speed). A survey of 256 runs of
+/// 10 s, a few minutes, so not run by default.
+#[test]
+#[ignore = "a survey of 256 drops of 10 s: cargo test --release --test it -- --ignored \
+            ragdoll_drop::the_at_rest_drop_comes_to_rest_on_nearly_every_layout --nocapture"]
+fn the_at_rest_drop_comes_to_rest_on_nearly_every_layout() {
+    let _alone = one_at_a_time();
+    let layouts: Vec<(u64, SpineKind)> = (1..=64)
+        .flat_map(|s| [SpineKind::Chain3, SpineKind::Rod].map(|p| (s, p)))
+        .collect();
+    let mut at_rest = [0, 0];
+    for &(seed, spine) in &layouts {
+        for (method, push_speed) in [None, Some(f32::INFINITY)].into_iter().enumerate() {
+            let (_, report) = drop_at_rest(seed, spine, push_speed);
+            let still = report.restless.is_empty();
+            at_rest[method] += still as usize;
+            let fastest = report
+                .restless
+                .first()
+                .map(|(n, r)| (n.clone(), r.point_speed));
+            println!(
+                "seed {seed}, {spine}, push speed {}: at rest {still}, deepest overlap {:.2} cm, \
+                 fastest restless {fastest:?}",
+                push_speed.map_or("the variant's".into(), |p| format!("{p}")),
+                report.max_overlap_cm
+            );
+        }
+    }
+    let n = layouts.len();
+    println!(
+        "at rest after 10 s: {} of {n} layouts at the variant's push speed, {} pushed out at once",
+        at_rest[0], at_rest[1]
+    );
+    assert!(20 * at_rest[0] >= 19 * n, "{} of {n} at rest", at_rest[0]);
+    assert!(at_rest[0] > at_rest[1], "{at_rest:?} of {n}");
 }
 
 /// Stacking carries the pile's weight (issue 10, the settled residual): the scene's `stacked`
