@@ -3,7 +3,7 @@
 
 use serde::Deserialize;
 
-use super::SceneDef;
+use super::{RagdollDef, SceneDef};
 use crate::constraint::{BendTwist, JointFlavour, TwistMode};
 use crate::ragdoll::{SelfContacts, SpineKind};
 use crate::world::{ContactDetection, SolverKind};
@@ -101,13 +101,18 @@ impl Overrides {
     /// and rod settings on every ragdoll, joint and rod.
     pub fn apply(&self, def: &mut SceneDef) {
         if let (Some(seed), Some(drop)) = (self.seed, def.drop.as_mut()) {
-            // the block's ragdolls were appended to the file's own when it was parsed; only
-            // their poses depend on the seed, so what a variant set on them stays
+            // the block's ragdolls were added by name when the file was parsed; only their
+            // poses depend on the seed, so what a variant set on them stays
             drop.seed = seed;
-            let laid_out = drop.expand();
-            let first = def.ragdoll.len() - laid_out.len();
-            for (r, fresh) in def.ragdoll[first..].iter_mut().zip(laid_out) {
-                (r.position, r.rotation) = (fresh.position, fresh.rotation);
+            let laid_out: std::collections::HashMap<String, RagdollDef> = drop
+                .expand()
+                .into_iter()
+                .map(|r| (r.name.clone(), r))
+                .collect();
+            for r in &mut def.ragdoll {
+                if let Some(fresh) = laid_out.get(&r.name) {
+                    (r.position, r.rotation) = (fresh.position, fresh.rotation);
+                }
             }
         }
         set(&mut def.iterations, self.iterations);
@@ -181,8 +186,9 @@ impl Overrides {
         }
     }
 
-    /// What the overrides cannot do to `def` (after [`Overrides::apply`]): rod settings for a
-    /// scene without rods, damping without a stiffness to damp. An error names the flag.
+    /// What the overrides cannot do to `def` (after [`Overrides::apply`]): a seed for a scene
+    /// without a `[drop]` block, rod settings for a scene without rods, damping without a
+    /// stiffness to damp. An error names the flag.
     pub fn check_applied(&self, def: &SceneDef) -> Result<(), String> {
         if self.seed.is_some() && def.drop.is_none() {
             return Err("--seed lays out a [drop] block's ragdolls, and the scene has none".into());
