@@ -50,6 +50,7 @@ use crate::sim::Overrides;
 use crate::world::{ContactDetection, SolverKind};
 
 mod features;
+pub mod layouts;
 mod table;
 
 pub use features::{feature_costs, FeatureCost};

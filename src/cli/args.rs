@@ -12,7 +12,7 @@ use crate::world::{ContactDetection, SolverKind};
 
 use super::parse::{
     non_negative, parse_choice, positive_angular_speed, positive_seconds, positive_speed,
-    positive_stiffness, stacking_rate, unit_interval,
+    positive_stiffness, seed_list, stacking_rate, unit_interval, SeedList,
 };
 use super::tune;
 
@@ -84,6 +84,10 @@ pub enum Command {
         #[arg(long, default_value = "recordings")]
         out: PathBuf,
     },
+    /// Robustness over layouts: runs a scene with a `[drop]` block headless once per layout
+    /// seed and spine -> <out>/<scene>_layouts.md and .csv (<scene>_<variant>_layouts with
+    /// --variant): whether each run ended at rest, its deepest overlap, or where it stopped.
+    Layouts(LayoutsArgs),
     /// Validates scene files without running them.
     Check {
         /// Scene files (TOML) to check
@@ -92,6 +96,32 @@ pub enum Command {
     },
     /// Lists the files the main job writes, one per line (what CI checks and archives).
     Outputs,
+}
+
+/// The arguments of `rodlab layouts`.
+#[derive(Debug, Clone, Args)]
+pub struct LayoutsArgs {
+    /// Scene file (TOML) with a `[drop]` block
+    pub scene: PathBuf,
+    /// Run the scene's `[[variant]]` of this name (its settings, then the overrides below).
+    #[arg(long)]
+    pub variant: Option<String>,
+    /// Layout seeds: numbers and ranges, comma separated (e.g. 1-16,20).
+    #[arg(long, default_value = "1-8", value_parser = seed_list)]
+    pub seeds: SeedList,
+    /// Spines, comma separated.
+    #[arg(long, value_delimiter = ',', default_value = "chain3,rod",
+          value_parser = parse_choice::<SpineKind>)]
+    pub spines: Vec<SpineKind>,
+    /// A run whose deepest overlap passes this (cm) is counted in the summary.
+    #[arg(long, value_parser = non_negative, default_value_t = 1.0)]
+    pub overlap_cm: f32,
+    /// Folder for the table and the CSV.
+    #[arg(long, default_value = "recordings")]
+    pub out: PathBuf,
+    /// Settings that override the scene's (not --seed or --spine: the layouts set those).
+    #[command(flatten)]
+    pub overrides: OverrideArgs,
 }
 
 /// The arguments of `rodlab sweep`.

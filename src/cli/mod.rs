@@ -29,6 +29,7 @@ macro_rules! report {
 }
 
 mod args;
+mod layouts;
 mod main_job;
 mod parse;
 mod run;
@@ -42,6 +43,7 @@ pub use args::{Cli, Command, OverrideArgs, SweepArgs};
 pub use run::{load_scene, record_kinematics_scene, record_scene, record_scene_from};
 pub use summary::print_summary;
 
+use layouts::layouts;
 use main_job::{main_job, main_job_outputs, run_all};
 use run::{check_output, rerun_sink_given, run_one};
 use stress::stress;
@@ -55,6 +57,7 @@ pub fn main() -> anyhow::Result<()> {
     let threads = match &cli.command {
         Some(Command::Run { overrides, .. } | Command::All { overrides, .. }) => overrides.threads,
         Some(Command::Sweep(args)) => args.threads,
+        Some(Command::Layouts(args)) => args.overrides.threads,
         _ => None,
     };
     match threads {
@@ -142,6 +145,7 @@ fn dispatch_command(cli: Cli, matches: &ArgMatches) -> anyhow::Result<()> {
         }
         Some(Command::Tune(args)) => tune::tune(&args),
         Some(Command::Stress { out }) => stress(&out),
+        Some(Command::Layouts(args)) => layouts(&args),
     }
 }
 

@@ -60,3 +60,31 @@ pub(super) fn stacking_rate(s: &str) -> Result<f32, String> {
     let must = format!("be a rate from 0 to {max} per metre");
     number_where(s, |v| (0.0..=max).contains(&v), &must)
 }
+
+/// Layout seeds: numbers and inclusive ranges, comma separated (`1-16,20`); at most 100 000.
+pub(super) fn seed_list(s: &str) -> Result<SeedList, String> {
+    let mut seeds = Vec::new();
+    for item in s.split(',').map(str::trim) {
+        let number = |t: &str| {
+            (t.trim().parse::<u64>()).map_err(|_| format!("`{t}` is not a seed (a whole number)"))
+        };
+        match item.split_once('-') {
+            Some((first, last)) => {
+                let (first, last) = (number(first)?, number(last)?);
+                if last < first || last - first >= 100_000 {
+                    return Err(format!("`{item}` is not a range of up to 100000 seeds"));
+                }
+                seeds.extend(first..=last);
+            }
+            None => seeds.push(number(item)?),
+        }
+        if seeds.len() > 100_000 {
+            return Err("more than 100000 seeds".into());
+        }
+    }
+    Ok(SeedList(seeds))
+}
+
+/// The seeds `--seeds` lists, in order.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SeedList(pub Vec<u64>);

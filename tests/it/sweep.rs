@@ -312,3 +312,93 @@ fn the_rod_bend_twist_block_is_a_line_beside_the_reference() {
         sequential.mean_dislocation_cm
     );
 }
+
+/// `rodlab layouts`: each run is the drop at that seed and spine, exactly as a run of it alone
+/// (the same deepest overlap and dislocation to the bit, whatever the thread count), in the
+/// order of the seeds; the seeds parse as numbers and ranges; a scene without a `[drop]`
+/// block, or overrides that set the seed, are refused.
+#[test]
+fn layouts_are_the_drop_run_at_each_seed_in_order() {
+    use clap::Parser as _;
+    use rodlab::cli::{Cli, Command};
+    use rodlab::sim::{self, Overrides};
+    use rodlab::sweep::layouts::{layouts_csv, run_layouts, LAYOUTS_HEADER};
+    let cli = Cli::try_parse_from(["rodlab", "layouts", "x.toml", "--seeds", "4-6,2"]).unwrap();
+    let Some(Command::Layouts(args)) = cli.command else {
+        panic!("not the layouts command");
+    };
+    assert_eq!(args.seeds.0, [4, 5, 6, 2]);
+    for bad in ["6-4", "x", "1-", "3,,4"] {
+        let parsed = Cli::try_parse_from(["rodlab", "layouts", "x.toml", "--seeds", bad]);
+        assert!(parsed.is_err(), "--seeds {bad}");
+    }
+
+    let scene = format!("{SCENES}/ragdoll_drop.toml");
+    let frames = Overrides {
+        frames: Some(40),
+        ..Default::default()
+    };
+    let mut seen = 0;
+    let runs = run_layouts(
+        scene.as_ref(),
+        Some("at_rest"),
+        &frames,
+        &[3, 1],
+        &[SpineKind::Rod],
+        |_| seen += 1,
+    )
+    .unwrap();
+    assert_eq!(seen, 2);
+    let order: Vec<u64> = runs.iter().map(|r| r.seed).collect();
+    assert_eq!(order, [3, 1]);
+    for run in &runs {
+        let end = run.end.as_ref().unwrap();
+        let mut alone = Scene::load(&scene).unwrap().variant("at_rest").unwrap();
+        Overrides {
+            seed: Some(run.seed),
+            spine: Some(SpineKind::Rod),
+            frames: Some(40),
+            ..Default::default()
+        }
+        .apply(&mut alone.def);
+        let mut lab = alone.build().unwrap();
+        let report = sim::run(&mut lab, 40, &mut sim::NoObserver).unwrap();
+        let mean = report.total_dislocation_cm.iter().sum::<f32>() / 40.0;
+        assert_eq!(
+            end.deepest_overlap_cm, report.max_overlap_cm,
+            "seed {}",
+            run.seed
+        );
+        assert_eq!(end.mean_dislocation_cm, mean, "seed {}", run.seed);
+        // at 40 frames the pile is still landing
+        assert!(end.still_moving > 0 && end.all_asleep_from.is_none());
+    }
+    assert_ne!(runs[0].end, runs[1].end, "two seeds, one pile");
+    let csv = layouts_csv(&runs);
+    assert!(csv.starts_with(LAYOUTS_HEADER));
+    assert_eq!(csv.lines().count(), 3);
+
+    let no_drop = format!("{SCENES}/passive_bending.toml");
+    let e = run_layouts(
+        no_drop.as_ref(),
+        None,
+        &frames,
+        &[1],
+        &[SpineKind::Rod],
+        |_| {},
+    );
+    assert!(format!("{:#}", e.unwrap_err()).contains("has no [drop] block"));
+    let seeded = Overrides {
+        seed: Some(2),
+        ..Default::default()
+    };
+    let e = run_layouts(
+        scene.as_ref(),
+        None,
+        &seeded,
+        &[1],
+        &[SpineKind::Rod],
+        |_| {},
+    );
+    assert!(e.is_err());
+}
