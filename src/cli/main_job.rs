@@ -15,7 +15,7 @@ use crate::world::{ContactDetection, SolverKind};
 
 use super::run::{explain_write_failure, load_scene, record_kinematics_scene, record_scene};
 use super::summary::print_summary;
-use super::{stop, stress, sweep, tune};
+use super::{layouts, stop, stress, sweep, tune};
 
 /// The main job: every scene recorded, then the passive-bending sweep.
 /// Scenes the main job sweeps, besides recording every scene.
@@ -46,6 +46,10 @@ pub(super) fn main_job_outputs(scenes: &Path, out: &Path) -> anyhow::Result<Vec<
         files.push(out.join(format!("tune.{ext}")));
     }
     files.extend([out.join("stress.md"), out.join("stress.csv")]);
+    for (_, variant, _) in SURVEYED_LAYOUTS {
+        let name = layouts::layouts_name(&scenes.join("ragdoll_drop.toml"), Some(variant));
+        files.extend(["md", "csv"].map(|ext| out.join(format!("{name}.{ext}"))));
+    }
     Ok(files)
 }
 
@@ -90,8 +94,35 @@ pub(super) fn main_job() -> anyhow::Result<()> {
     // the default tuning grid of passive bending's rod spine
     let scene = Scene::load(&path)?;
     tune::run_grid(&scene, &crate::tune::TuneConfig::default(), out)?;
-    stress(out)
+    stress(out)?;
+    // where the drop's variants fail, over layouts rather than on the scene's one
+    for (seeds, variant, frames) in SURVEYED_LAYOUTS {
+        if stop::requested() {
+            return Ok(());
+        }
+        let seeds: Vec<u64> = seeds.collect();
+        let what = layouts::Survey {
+            variant: Some(variant),
+            seeds: &seeds,
+            spines: &[SpineKind::Chain3, SpineKind::Rod],
+            overlap_cm: 1.0,
+        };
+        let overrides = Overrides {
+            frames,
+            ..Default::default()
+        };
+        layouts::survey(&drop, &what, &overrides, out)?;
+    }
+    Ok(())
 }
+
+/// The drop's variants the main job runs over layouts ([`layouts::survey`]): seeds, variant,
+/// frames (None: the scene's). The at-rest pile over its 10 s; the landing of the variant
+/// that keeps overlap within 1 cm, over the test's 150 frames.
+const SURVEYED_LAYOUTS: [(std::ops::RangeInclusive<u64>, &str, Option<u32>); 2] = [
+    (1..=16, "at_rest", None),
+    (1..=16, "redetect_sweeps", Some(150)),
+];
 
 /// The scene files (`*.toml`) in `dir`, sorted.
 fn scene_files(dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
