@@ -184,6 +184,23 @@ impl World {
         Ok(())
     }
 
+    /// The contact points of the current poses that overlap, found afresh with every body
+    /// awake (sleeping bodies make no pairs): how many of how many points, and their mean
+    /// overlap (m; 0 when none overlaps). Issue 10's measure of penetration at rest.
+    pub fn overlap_at_rest(&self) -> (usize, usize, f32) {
+        let mut bodies = self.bodies.clone();
+        self.islands.clone().wake_all(&mut bodies);
+        let mut contacts = Contacts::default();
+        let (dt, margin) = (self.settings.dt, self.settings.contact_margin);
+        contacts.detect(&bodies, &self.constraints, dt, margin);
+        let overlaps: Vec<f32> = (contacts.points.iter())
+            .map(|p| -p.separation_at(&bodies[p.body_a.index()], &bodies[p.body_b.index()]))
+            .filter(|&d| d > 0.0)
+            .collect();
+        let mean = overlaps.iter().sum::<f32>() / overlaps.len().max(1) as f32;
+        (overlaps.len(), contacts.points.len(), mean)
+    }
+
     /// Kinetic energy of all bodies (J).
     pub fn kinetic_energy(&self) -> f32 {
         self.bodies.iter().map(Body::kinetic_energy).sum()

@@ -80,7 +80,7 @@ pub(super) fn layouts_name(scene: &Path, variant: Option<&str>) -> String {
 /// The summary and one row per run.
 fn markdown(scene: &Path, variant: Option<&str>, summary: &[String], runs: &[LayoutRun]) -> String {
     let mut text = format!(
-        "# Layouts of {}{}\n\n{}\n\n| seed | spine | at rest | still moving (fastest) | all asleep from frame | deepest overlap | mean dislocation |\n|---|---|---|---|---|---|---|\n",
+        "# Layouts of {}{}\n\n{}\n\n| seed | spine | at rest | still moving (fastest) | all asleep from frame | deepest overlap | mean overlap at the end | mean dislocation |\n|---|---|---|---|---|---|---|---|\n",
         scene.display(),
         variant.map_or(String::new(), |v| format!(", variant {v}")),
         summary.join("\n")
@@ -88,7 +88,7 @@ fn markdown(scene: &Path, variant: Option<&str>, summary: &[String], runs: &[Lay
     for run in runs {
         let row = match &run.end {
             Ok(end) => format!(
-                "{} | {} | {} | {:.2} cm | {:.2} cm",
+                "{} | {} | {} | {:.2} cm | {:.2} mm | {:.2} cm",
                 if end.still_moving == 0 { "yes" } else { "no" },
                 match &end.fastest {
                     Some((body, speed)) => format!("{} ({body} {speed:.2} m/s)", end.still_moving),
@@ -96,9 +96,10 @@ fn markdown(scene: &Path, variant: Option<&str>, summary: &[String], runs: &[Lay
                 },
                 end.all_asleep_from.map_or("-".into(), |f| f.to_string()),
                 end.deepest_overlap_cm,
+                end.overlap_at_rest_mm,
                 end.mean_dislocation_cm
             ),
-            Err(why) => format!("stopped: {} | | | |", why.replace('\n', " ")),
+            Err(why) => format!("stopped: {} | | | | |", why.replace('\n', " ")),
         };
         text += &format!("| {} | {} | {row} |\n", run.seed, run.spine);
     }

@@ -47,7 +47,8 @@ pub(super) fn main_job_outputs(scenes: &Path, out: &Path) -> anyhow::Result<Vec<
     }
     files.extend([out.join("stress.md"), out.join("stress.csv")]);
     for (_, variant, _) in SURVEYED_LAYOUTS {
-        let name = layouts::layouts_name(&scenes.join("ragdoll_drop.toml"), Some(variant));
+        let drop = scenes.join(format!("{}.toml", SWEPT_SCENES[1]));
+        let name = layouts::layouts_name(&drop, Some(variant));
         files.extend(["md", "csv"].map(|ext| out.join(format!("{name}.{ext}"))));
     }
     Ok(files)

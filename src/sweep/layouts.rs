@@ -11,6 +11,7 @@
 //! | `still_moving`, `fastest`, `fastest_speed` | how many were, the fastest and its speed (m/s) |
 //! | `all_asleep_from` | the first frame with every body asleep (empty: never, or sleep off) |
 //! | `deepest_overlap_cm` | the deepest overlap over the run, found afresh on each frame's final poses |
+//! | `overlap_at_rest_mm` | the mean overlap of the points that overlap at the end ([`crate::world::World::overlap_at_rest`]) |
 //! | `mean_dislocation_cm` | the total dislocation over all ragdolls, mean over frames |
 //! | `failed` | empty, or why the run stopped (NaN, an explosion: frame, body, constraint) |
 
@@ -44,12 +45,14 @@ pub struct LayoutEnd {
     pub all_asleep_from: Option<usize>,
     /// The deepest overlap over the run (cm), found afresh on each frame's final poses.
     pub deepest_overlap_cm: f32,
+    /// The mean overlap (mm) of the contact points that overlap at the end.
+    pub overlap_at_rest_mm: f32,
     /// The total dislocation over all ragdolls (cm), mean over frames.
     pub mean_dislocation_cm: f32,
 }
 
 /// The CSV header (module docs).
-pub const LAYOUTS_HEADER: &str = "seed,spine,at_rest,still_moving,fastest,fastest_speed,all_asleep_from,deepest_overlap_cm,mean_dislocation_cm,failed";
+pub const LAYOUTS_HEADER: &str = "seed,spine,at_rest,still_moving,fastest,fastest_speed,all_asleep_from,deepest_overlap_cm,overlap_at_rest_mm,mean_dislocation_cm,failed";
 
 /// Runs `scene` (its variant `variant`, then `overrides`) once per seed and spine, on several
 /// threads; the runs in the order of `seeds`, then `spines`. `overrides` must not set the seed
@@ -111,6 +114,7 @@ fn run_one(scene: &Scene) -> Result<LayoutEnd, String> {
         fastest: (report.restless.first()).map(|(name, r)| (name.clone(), r.point_speed)),
         all_asleep_from: report.awake_bodies.iter().position(|&n| n == 0),
         deepest_overlap_cm: report.max_overlap_cm,
+        overlap_at_rest_mm: 1000.0 * lab.world.overlap_at_rest().2,
         mean_dislocation_cm: report.total_dislocation_cm.iter().sum::<f32>() / frames,
     })
 }
@@ -132,12 +136,13 @@ pub fn layouts_csv(runs: &[LayoutRun]) -> String {
                     speed,
                     end.all_asleep_from.map_or(String::new(), |f| f.to_string()),
                     format!("{:.3}", end.deepest_overlap_cm),
+                    format!("{:.3}", end.overlap_at_rest_mm),
                     format!("{:.3}", end.mean_dislocation_cm),
                     String::new(),
                 ]);
             }
             Err(why) => {
-                row.extend(std::iter::repeat_n(String::new(), 7));
+                row.extend(std::iter::repeat_n(String::new(), 8));
                 row.push(why.clone());
             }
         }
@@ -166,8 +171,9 @@ pub fn layouts_summary(runs: &[LayoutRun], overlap_cm: f32) -> Vec<String> {
                 .filter(|e| e.deepest_overlap_cm > overlap_cm)
                 .count();
             let deepest = ends.iter().map(|e| e.deepest_overlap_cm).fold(0.0, f32::max);
+            let resting = ends.iter().map(|e| e.overlap_at_rest_mm).fold(0.0, f32::max);
             format!(
-                "- {spine}: {} layouts; at rest at the end {at_rest}; deepest overlap over {overlap_cm} cm {deep} (the deepest {deepest:.2} cm); stopped {}",
+                "- {spine}: {} layouts; at rest at the end {at_rest}; deepest overlap over {overlap_cm} cm {deep} (the deepest {deepest:.2} cm); mean overlap at the end at most {resting:.2} mm; stopped {}",
                 of.len(),
                 of.len() - ends.len()
             )
@@ -187,6 +193,7 @@ mod tests {
             fastest: None,
             all_asleep_from: Some(300),
             deepest_overlap_cm: 1.5,
+            overlap_at_rest_mm: 0.8,
             mean_dislocation_cm: 2.0,
         };
         let runs = [
@@ -206,11 +213,12 @@ mod tests {
         assert_eq!(rows.len(), 2);
         assert_eq!(&rows[0].1[2], "true");
         assert_eq!(&rows[0].1[6], "300");
-        assert_eq!(&rows[1].1[9], "frame 9: body \"b\" exploded, badly");
+        assert_eq!(&rows[0].1[8], "0.800");
+        assert_eq!(&rows[1].1[10], "frame 9: body \"b\" exploded, badly");
         assert_eq!(&rows[1].1[2], "");
         assert_eq!(
             layouts_summary(&runs, 1.0),
-            ["- rod: 2 layouts; at rest at the end 1; deepest overlap over 1 cm 1 (the deepest 1.50 cm); stopped 1"]
+            ["- rod: 2 layouts; at rest at the end 1; deepest overlap over 1 cm 1 (the deepest 1.50 cm); mean overlap at the end at most 0.80 mm; stopped 1"]
         );
     }
 }

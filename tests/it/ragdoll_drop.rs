@@ -239,14 +239,13 @@ fn the_detection_profile_accounts_for_detection() {
     }
 }
 
-/// The drop at its `at_rest` variant on layout `seed` with one spine, at the variant's push
-/// speed or `push_speed`; returns the final lab and the run's report.
-fn drop_at_rest(seed: u64, spine: SpineKind, push_speed: Option<f32>) -> (Lab, sim::RunReport) {
+/// The drop at its `at_rest` variant on layout `seed` with one spine; returns the final lab and
+/// the run's report.
+fn drop_at_rest(seed: u64, spine: SpineKind) -> (Lab, sim::RunReport) {
     let mut scene = Scene::load(SCENE).unwrap().variant("at_rest").unwrap();
     Overrides {
         spine: Some(spine),
         seed: Some(seed),
-        contact_push_speed: push_speed,
         ..Default::default()
     }
     .apply(&mut scene.def);
@@ -277,7 +276,7 @@ fn the_drop_pile_falls_asleep_at_the_scenes_at_rest_variant() {
         .iter()
         .flat_map(|&s| [SpineKind::Chain3, SpineKind::Rod].map(|p| (s, p)));
     for (seed, spine) in layouts {
-        let (lab, report) = drop_at_rest(seed, spine, None);
+        let (lab, report) = drop_at_rest(seed, spine);
         let dynamic = lab.world.bodies.iter().filter(|b| b.is_dynamic()).count();
         let asleep = lab.world.bodies.iter().filter(|b| b.is_asleep()).count();
         let first_all_asleep = report.awake_bodies.iter().position(|&n| n == 0);
@@ -287,30 +286,12 @@ fn the_drop_pile_falls_asleep_at_the_scenes_at_rest_variant() {
             "seed {seed}, {spine}: bodies still moving at or over {SLEEP_SPEED} m/s after 10 s: {:?}",
             report.restless
         );
-        // penetration at rest: the contacts of the final poses, found again with every body
-        // awake (sleeping bodies make no pairs); the mean over the points that overlap
-        let mut world = lab.world.clone();
-        let mut islands = world.islands.clone();
-        islands.wake_all(&mut world.bodies);
-        let (dt, margin) = (world.settings.dt, world.settings.contact_margin);
-        world
-            .contacts
-            .detect(&world.bodies, &world.constraints, dt, margin);
-        let overlaps: Vec<f32> = (world.contacts.points.iter())
-            .map(|p| -p.separation_at(world.body(p.body_a), world.body(p.body_b)))
-            .filter(|&d| d > 0.0)
-            .collect();
-        let mean = overlaps.iter().sum::<f32>() / overlaps.len() as f32;
+        let (overlapping, points, mean) = lab.world.overlap_at_rest();
         println!(
-            "seed {seed}, {spine}: at rest {} of {} contact points overlap, by {:.2} mm on average",
-            overlaps.len(),
-            world.contacts.points.len(),
+            "seed {seed}, {spine}: at rest {overlapping} of {points} contact points overlap, by {:.2} mm on average",
             1000.0 * mean
         );
-        assert!(
-            overlaps.len() > 100,
-            "the pile has too few contacts to judge"
-        );
+        assert!(overlapping > 100, "the pile has too few contacts to judge");
         assert!(
             mean < 2e-3,
             "seed {seed}, {spine}: mean penetration at rest {mean} m (issue 10: 2 mm)"
@@ -322,34 +303,37 @@ fn the_drop_pile_falls_asleep_at_the_scenes_at_rest_variant() {
 /// comes to rest in 10 s on nearly every layout at the `at_rest` variant's push speed, and on
 /// fewer with deep overlap pushed out at once. Measured over layouts 1-64 x both spines: 124
 /// of 128 at rest against 115 of 128 (docs/solver.md, Push speed). A survey of 256 runs of
-/// 10 s, a few minutes, so not run by default.
+/// 10 s, so not run by default.
 #[test]
-#[ignore = "a survey of 256 drops of 10 s: cargo test --release --test it -- --ignored \
-            ragdoll_drop::the_at_rest_drop_comes_to_rest_on_nearly_every_layout --nocapture"]
+#[ignore = "a survey of 256 drops of 10 s (about 90 s on 2 cores): cargo test --release \
+            --test it -- --ignored ragdoll_drop::the_at_rest_drop_comes_to_rest_on_nearly_every_layout \
+            --nocapture; each layout's row: rodlab layouts scenes/ragdoll_drop.toml --variant at_rest \
+            --seeds 1-64"]
 fn the_at_rest_drop_comes_to_rest_on_nearly_every_layout() {
+    use rodlab::sweep::layouts::run_layouts;
     let _alone = one_at_a_time();
-    let layouts: Vec<(u64, SpineKind)> = (1..=64)
-        .flat_map(|s| [SpineKind::Chain3, SpineKind::Rod].map(|p| (s, p)))
-        .collect();
-    let mut at_rest = [0, 0];
-    for &(seed, spine) in &layouts {
-        for (method, push_speed) in [None, Some(f32::INFINITY)].into_iter().enumerate() {
-            let (_, report) = drop_at_rest(seed, spine, push_speed);
-            let still = report.restless.is_empty();
-            at_rest[method] += still as usize;
-            let fastest = report
-                .restless
-                .first()
-                .map(|(n, r)| (n.clone(), r.point_speed));
-            println!(
-                "seed {seed}, {spine}, push speed {}: at rest {still}, deepest overlap {:.2} cm, \
-                 fastest restless {fastest:?}",
-                push_speed.map_or("the variant's".into(), |p| format!("{p}")),
-                report.max_overlap_cm
-            );
-        }
-    }
-    let n = layouts.len();
+    let seeds: Vec<u64> = (1..=64).collect();
+    let spines = [SpineKind::Chain3, SpineKind::Rod];
+    let at_rest = [None, Some(f32::INFINITY)].map(|push_speed| {
+        let overrides = Overrides {
+            contact_push_speed: push_speed,
+            ..Default::default()
+        };
+        let runs = run_layouts(
+            SCENE.as_ref(),
+            Some("at_rest"),
+            &overrides,
+            &seeds,
+            &spines,
+            |_| {},
+        )
+        .unwrap();
+        let still = |r: &&rodlab::sweep::layouts::LayoutRun| {
+            r.end.as_ref().expect("no explosion").still_moving == 0
+        };
+        runs.iter().filter(still).count()
+    });
+    let n = seeds.len() * spines.len();
     println!(
         "at rest after 10 s: {} of {n} layouts at the variant's push speed, {} pushed out at once",
         at_rest[0], at_rest[1]

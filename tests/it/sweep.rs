@@ -370,6 +370,8 @@ fn layouts_are_the_drop_run_at_each_seed_in_order() {
             run.seed
         );
         assert_eq!(end.mean_dislocation_cm, mean, "seed {}", run.seed);
+        let at_rest = 1000.0 * lab.world.overlap_at_rest().2;
+        assert_eq!(end.overlap_at_rest_mm, at_rest, "seed {}", run.seed);
         // at 40 frames the pile is still landing
         assert!(end.still_moving > 0 && end.all_asleep_from.is_none());
     }
