@@ -116,3 +116,31 @@ pub fn ragdoll_on_a_floor(
     build_humanoid(&mut world, &spec).unwrap();
     world
 }
+
+/// A small scene: a `[drop]` block of `count` chain3 ragdolls laid out with `seed`, one
+/// `[[ragdoll]]` of its own ("alone"), and a variant filtering every ragdoll's own pairs
+/// ("no_self_contacts").
+pub fn small_drop_scene(count: u32, seed: u64) -> String {
+    format!(
+        r#"
+dt = 0.016666668
+iterations = 4
+frames = 10
+contacts = true
+[drop]
+count = {count}
+spine = "chain3"
+first = [0.0, 1.0, 0.0]
+spacing = [1.0, 2.0, 1.0]
+columns = 2
+rows = 1
+seed = {seed}
+[[ragdoll]]
+name = "alone"
+position = [0.0, 0.0, 3.0]
+[[variant]]
+name = "no_self_contacts"
+self_contacts = "none"
+"#
+    )
+}

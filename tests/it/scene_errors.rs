@@ -839,30 +839,8 @@ fn record_every_zero_names_its_field() {
 #[test]
 fn seed_lays_out_the_drop_again_and_needs_a_drop_block() {
     use rodlab::sim::Overrides;
-    let text = |seed: u64| {
-        format!(
-            r#"
-dt = 0.016666668
-iterations = 4
-frames = 10
-[drop]
-count = 3
-spine = "chain3"
-first = [0.0, 1.0, 0.0]
-spacing = [1.0, 2.0, 1.0]
-columns = 2
-rows = 1
-seed = {seed}
-[[ragdoll]]
-name = "alone"
-position = [0.0, 0.0, 3.0]
-[[variant]]
-name = "no_self_contacts"
-self_contacts = "none"
-"#
-        )
-    };
-    let parse = |seed| Scene::parse("scenes/x.toml", &text(seed)).unwrap();
+    let parse =
+        |seed| Scene::parse("scenes/x.toml", &crate::common::small_drop_scene(3, seed)).unwrap();
     let mut reseeded = parse(7).variant("no_self_contacts").unwrap();
     let seeded = Overrides {
         seed: Some(99),

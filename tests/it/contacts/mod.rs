@@ -26,6 +26,17 @@ fn plane(world: &mut World, rotation: Quat) {
     );
 }
 
+/// A 1 kg ball of 10 cm radius named "ball" at `position`.
+fn ball(position: Vec3) -> Body {
+    Body::new(
+        "ball",
+        BodyKind::Dynamic,
+        Shape::Sphere { radius: 0.1 },
+        1.0,
+    )
+    .with_pose(position, Quat::IDENTITY)
+}
+
 fn sleepy_box(world: &mut World, name: &str, position: Vec3) -> rodlab::body::BodyId {
     world.add_body(
         Body::new(

@@ -8,15 +8,7 @@ use super::*;
 fn sphere_rests_on_a_plane() {
     let mut world = World::new(settings());
     plane(&mut world, Quat::IDENTITY);
-    let ball = world.add_body(
-        Body::new(
-            "ball",
-            BodyKind::Dynamic,
-            Shape::Sphere { radius: 0.1 },
-            1.0,
-        )
-        .with_pose(Vec3::new(0.0, 0.1, 0.0), Quat::IDENTITY),
-    );
+    let ball = world.add_body(ball(Vec3::new(0.0, 0.1, 0.0)));
     for frame in 0..600 {
         world.step().unwrap();
         let p = world.body(ball).position;
@@ -165,13 +157,7 @@ fn ball_rebounds_to_e_squared_of_its_drop_height() {
             ..settings()
         });
         plane(&mut world, Quat::IDENTITY);
-        let mut ball = Body::new(
-            "ball",
-            BodyKind::Dynamic,
-            Shape::Sphere { radius: 0.1 },
-            1.0,
-        )
-        .with_pose(Vec3::new(0.0, 1.1, 0.0), Quat::IDENTITY);
+        let mut ball = ball(Vec3::new(0.0, 1.1, 0.0));
         ball.restitution = e;
         let id = world.add_body(ball);
         let (mut bounced, mut peak) = (false, 0.0f32);

@@ -15,15 +15,7 @@ fn a_resting_box_sleeps_a_falling_ball_wakes_it_and_both_sleep_again() {
     });
     plane(&mut world, Quat::IDENTITY);
     let crate_ = sleepy_box(&mut world, "crate", Vec3::new(0.0, 0.1, 0.0));
-    let ball = world.add_body(
-        Body::new(
-            "ball",
-            BodyKind::Dynamic,
-            Shape::Sphere { radius: 0.1 },
-            1.0,
-        )
-        .with_pose(Vec3::new(0.05, 8.0, 0.0), Quat::IDENTITY),
-    );
+    let ball = world.add_body(ball(Vec3::new(0.05, 8.0, 0.0)));
     let mut fell_asleep = None;
     for frame in 1..=60 {
         world.step().unwrap();

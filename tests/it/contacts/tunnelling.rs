@@ -311,25 +311,7 @@ fn a_ragdolls_self_contacts_filter_its_own_pairs() {
 /// its 4, and the file's `all` none.
 #[test]
 fn self_contacts_reach_every_ragdoll_from_a_variant_or_the_command_line() {
-    let text = r#"
-dt = 0.016666668
-iterations = 4
-frames = 10
-contacts = true
-[drop]
-count = 2
-spine = "chain3"
-first = [0.0, 1.0, 0.0]
-spacing = [1.0, 2.0, 1.0]
-columns = 2
-rows = 1
-[[ragdoll]]
-name = "alone"
-position = [0.0, 0.0, 3.0]
-[[variant]]
-name = "no_self_contacts"
-self_contacts = "none"
-"#;
+    let text = &crate::common::small_drop_scene(2, 7);
     let scene = rodlab::scene::Scene::parse("scenes/x.toml", text).unwrap();
     let filters = |scene: &rodlab::scene::Scene| {
         let lab = scene.build().unwrap();
