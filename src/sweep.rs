@@ -294,6 +294,9 @@ pub fn method_label(spine: SpineKind, def: &SceneDef) -> String {
     }
     if def.contact_stacking != 0.0 {
         label += &format!(" stack{}", def.contact_stacking);
+        if def.contact_stacking_max_ratio.is_finite() {
+            label += &format!("<={}", def.contact_stacking_max_ratio);
+        }
     }
     if def.contact_detection != ContactDetection::Frame {
         label += " redetect";

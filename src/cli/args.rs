@@ -12,7 +12,7 @@ use crate::world::{ContactDetection, SolverKind};
 
 use super::parse::{
     non_negative, parse_choice, positive_angular_speed, positive_seconds, positive_speed,
-    positive_stiffness, seed_list, stacking_rate, unit_interval, SeedList,
+    positive_stiffness, seed_list, stacking_rate, stacking_ratio, unit_interval, SeedList,
 };
 use super::tune;
 
@@ -227,6 +227,10 @@ pub struct OverrideArgs {
     /// other's height above it (0: the paper's contact; default the scene's `contact_stacking`).
     #[arg(long, value_parser = stacking_rate)]
     pub contact_stacking: Option<f32>,
+    /// The most times heavier stacking makes the lower body, e^(k dh) capped (1 or more; inf:
+    /// no cap; default the scene's `contact_stacking_max_ratio`).
+    #[arg(long, value_parser = stacking_ratio)]
+    pub contact_stacking_max_ratio: Option<f32>,
     /// When contact points are found: frame (once a frame, the paper's) or substep (afresh at
     /// every substep); default the scene's `contact_detection`.
     #[arg(long, value_parser = parse_choice::<ContactDetection>)]
@@ -309,6 +313,7 @@ impl From<&OverrideArgs> for Overrides {
             contact_hertz: a.contact_hertz,
             contact_damping_ratio: a.contact_damping_ratio,
             contact_stacking: a.contact_stacking,
+            contact_stacking_max_ratio: a.contact_stacking_max_ratio,
             contact_detection: a.contact_detection,
             angular_speed_limit: a.angular_speed_limit,
             joint_damping: a.joint_damping,

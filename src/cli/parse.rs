@@ -61,6 +61,11 @@ pub(super) fn stacking_rate(s: &str) -> Result<f32, String> {
     number_where(s, |v| (0.0..=max).contains(&v), &must)
 }
 
+/// A cap on stacking's mass ratio: 1 or more (or inf).
+pub(super) fn stacking_ratio(s: &str) -> Result<f32, String> {
+    number_where(s, |v| v >= 1.0, "be a mass ratio of 1 or more (or inf)")
+}
+
 /// Layout seeds: numbers and inclusive ranges, comma separated (`1-16,20`); at most 100 000.
 pub(super) fn seed_list(s: &str) -> Result<SeedList, String> {
     let mut seeds = Vec::new();

@@ -49,7 +49,9 @@ impl<L: Lane> ContactLanes<L> {
         self.stacked = start.stacking.rate != 0.0;
         if self.stacked {
             let height = (pb - pa).dot(V3::splat(start.stacking.up));
-            let lower = (L::splat(-start.stacking.rate) * height.abs()).exp();
+            let lower = (L::splat(-start.stacking.rate) * height.abs())
+                .exp()
+                .max(L::splat(start.stacking.max_ratio.recip()));
             self.mass_scale_a = height.gt(zero).select(lower, one);
             self.mass_scale_b = height.lt(zero).select(lower, one);
         } else {
@@ -194,9 +196,11 @@ mod tests {
             push_speed: 3.0,
             compliance: 0.02,
             damping: 0.3,
+            // the cap under most pairs' ratios, so lanes with and without it are compared
             stacking: Stacking {
                 up: Vec3::Y,
                 rate: 10.0,
+                max_ratio: 1.2,
             },
             first,
         }

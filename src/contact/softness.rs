@@ -49,12 +49,29 @@ impl Softness {
 /// its normal was gave a body wedged between two others a different mass in each contact, and
 /// the sweeps then pumped energy (a ragdoll thrown 12 m up in the drop). The price: a stacked
 /// pair's impulses do not conserve its momentum, and the lower body feels less of the load.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+///
+/// `max_ratio` caps `e^(k dh)`: at 20 substeps of one iteration, uncapped ratios (e^4 for a
+/// limb 40 cm under a chest) had the sweeps pump a few piles until a limb exploded, and deep
+/// overlap came with them; capped at e, 4 of 256 drop landings passed 1 cm where 12 did
+/// (docs/solver.md, The box's nearest point, and stacking's ratio capped).
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Stacking {
     /// Unit vector against gravity (zero without gravity: no scaling).
     pub up: Vec3,
     /// `k` (1/m).
     pub rate: f32,
+    /// The most times heavier the lower body counts (1 or more; infinite: no cap).
+    pub max_ratio: f32,
+}
+
+impl Default for Stacking {
+    fn default() -> Self {
+        Stacking {
+            up: Vec3::ZERO,
+            rate: 0.0,
+            max_ratio: f32::INFINITY,
+        }
+    }
 }
 
 impl Stacking {
@@ -64,7 +81,9 @@ impl Stacking {
         if self.rate == 0.0 || height == 0.0 {
             return (1.0, 1.0);
         }
-        let lower = (-self.rate * height.abs()).exp();
+        let lower = (-self.rate * height.abs())
+            .exp()
+            .max(self.max_ratio.recip());
         if height > 0.0 {
             (lower, 1.0) // b above a
         } else {

@@ -103,6 +103,7 @@ fn settings(d: &SceneDef) -> Settings {
         contact_hertz: d.contact_hertz,
         contact_damping_ratio: d.contact_damping_ratio,
         contact_stacking: d.contact_stacking,
+        contact_stacking_max_ratio: d.contact_stacking_max_ratio,
         sleep: d.sleep,
         linear_damping: d.damping[0],
         angular_damping: d.damping[1],

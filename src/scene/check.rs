@@ -253,6 +253,14 @@ fn check_settings(d: &SceneDef, prefix: &[Seg]) -> Result<(), Failure> {
                 d.contact_stacking
             ),
         ),
+        (
+            "contact_stacking_max_ratio",
+            d.contact_stacking_max_ratio >= 1.0,
+            format!(
+                "must be a mass ratio of 1 or more (or inf), got {}",
+                d.contact_stacking_max_ratio
+            ),
+        ),
     ];
     if let Some((field, _, message)) = rules.into_iter().find(|(_, holds, _)| !holds) {
         let mut path = prefix.to_vec();

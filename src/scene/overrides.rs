@@ -43,6 +43,8 @@ pub struct Overrides {
     pub contact_damping_ratio: Option<f32>,
     /// Contact mass scaling by height (1/m); 0 is the paper's contact.
     pub contact_stacking: Option<f32>,
+    /// The most times heavier stacking makes the lower body (1 or more, or inf).
+    pub contact_stacking_max_ratio: Option<f32>,
     /// When contact points are found: once a frame or every substep.
     pub contact_detection: Option<ContactDetection>,
     /// Rotational dashpot across every joint and rod (N m s/rad).
@@ -125,6 +127,10 @@ impl Overrides {
         set(&mut def.contact_hertz, self.contact_hertz);
         set(&mut def.contact_damping_ratio, self.contact_damping_ratio);
         set(&mut def.contact_stacking, self.contact_stacking);
+        set(
+            &mut def.contact_stacking_max_ratio,
+            self.contact_stacking_max_ratio,
+        );
         set(&mut def.contact_detection, self.contact_detection);
         set(&mut def.angular_speed_limit, self.angular_speed_limit);
         set(&mut def.joint_damping, self.joint_damping);

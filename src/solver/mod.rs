@@ -418,6 +418,7 @@ impl Solver {
         let stacking = crate::contact::Stacking {
             up: -settings.gravity.normalize_or_zero(),
             rate: settings.contact_stacking,
+            max_ratio: settings.contact_stacking_max_ratio,
         };
         let push_speed = settings.contact_push_speed;
         let warm = settings.contact_warm_start;

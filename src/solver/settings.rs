@@ -106,6 +106,9 @@ pub struct Settings {
     /// other's height above it ([`crate::contact::Stacking`]). 0 (the default) is the paper's
     /// contact.
     pub contact_stacking: f32,
+    /// The most times heavier stacking makes the lower body, `e^(k dh)` capped; infinite (the
+    /// default) is no cap.
+    pub contact_stacking_max_ratio: f32,
     /// Islands of bodies that stay still fall asleep and leave the step ([`crate::sleep`]).
     /// Off (the default) in the paper's scenes, whose residuals are measured every frame.
     pub sleep: bool,
@@ -142,6 +145,7 @@ impl Default for Settings {
             contact_hertz: 0.0,
             contact_damping_ratio: 1.0,
             contact_stacking: 0.0,
+            contact_stacking_max_ratio: f32::INFINITY,
             sleep: false,
             linear_damping: 0.0,
             angular_damping: 0.0,

@@ -89,7 +89,11 @@ fn stacked_pairs(slide: f32, rate: f32) -> (Vec<SolverBody>, Vec<ContactPoint>) 
     }
     let mut contacts = Contacts::default();
     contacts.detect(&bodies, &Default::default(), 1.0 / 60.0, 0.05);
-    let stacking = Stacking { up: Vec3::Y, rate };
+    let stacking = Stacking {
+        up: Vec3::Y,
+        rate,
+        max_ratio: f32::INFINITY,
+    };
     contacts.begin_substep(
         &bodies,
         1.0 / 60.0,

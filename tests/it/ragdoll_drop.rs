@@ -54,89 +54,102 @@ fn mean(values: &[f32]) -> f32 {
     values.iter().sum::<f32>() / values.len() as f32
 }
 
+/// How still a drop's pile is at its end: the fastest body centre and the fastest surface
+/// point (m/s), and the fraction of bodies with every point under 0.2 m/s.
+fn stillness(lab: &Lab) -> (f32, f32, f32) {
+    let bodies: Vec<_> = (lab.ragdolls.iter())
+        .flat_map(|r| r.body_ids())
+        .map(|id| lab.world.body(id))
+        .collect();
+    let fastest_centre = (bodies.iter())
+        .map(|b| b.linear_velocity.length())
+        .fold(0.0, f32::max);
+    let point_speeds: Vec<f32> = bodies.iter().map(|b| b.max_point_speed()).collect();
+    let fastest_point = point_speeds.iter().copied().fold(0.0, f32::max);
+    let resting =
+        point_speeds.iter().filter(|&&v| v < 0.2).count() as f32 / point_speeds.len() as f32;
+    (fastest_centre, fastest_point, resting)
+}
+
+fn median(mut values: Vec<f32>) -> f32 {
+    values.sort_by(f32::total_cmp);
+    let n = values.len();
+    0.5 * (values[(n - 1) / 2] + values[n / 2])
+}
+
 #[test]
 fn thirty_ragdolls_land_and_settle_and_the_rod_spine_leaves_less_residual() {
     let _alone = one_at_a_time();
-    let mut means = Vec::new();
-    let mut per_frame = Vec::new();
-    for spine in [SpineKind::Chain3, SpineKind::Rod] {
-        let (lab, dislocation, lowest) = drop(spine, 7);
-        // body centres stay above the floor (the thinnest limb has a 4 cm radius)
-        assert!(lowest > 0.0, "{spine}: a body centre reached y = {lowest}");
-        let bodies: Vec<_> = lab
-            .ragdolls
-            .iter()
-            .flat_map(|r| r.body_ids())
-            .map(|id| lab.world.body(id))
-            .collect();
-        let fastest_centre = bodies
-            .iter()
-            .map(|b| b.linear_velocity.length())
-            .fold(0.0, f32::max);
-        let point_speeds: Vec<f32> = bodies.iter().map(|b| b.max_point_speed()).collect();
-        let fastest_point = point_speeds.iter().copied().fold(0.0, f32::max);
-        let resting =
-            point_speeds.iter().filter(|&&v| v < 0.2).count() as f32 / point_speeds.len() as f32;
-        let mut sorted = point_speeds.clone();
-        sorted.sort_by(f32::total_cmp);
-        println!(
-            "{spine}: fastest centre {fastest_centre:.3} m/s, fastest point {fastest_point:.3} \
-             m/s, median point {:.3} m/s, {:.1}% of bodies with every point under 0.2 m/s",
-            sorted[sorted.len() / 2],
-            100.0 * resting
-        );
-        // Nearly at rest: a few limbs caught between stair boxes and other ragdolls still
-        // twitch about their long axis. These figures move with the order contacts are solved
-        // in (the broad phase's pair order), so one layout is one sample; measured over the
-        // layouts 7 / 1 / 2 / 3 (this file's `drop(spine, seed)`, pairs sorted by body):
-        // fastest centre 0.14 / 0.17 / 0.13 / 0.11 m/s chain3 and 0.30 / 0.11 / 0.09 / 0.14
-        // rod; fastest point 0.56 / 0.52 / 0.28 / 0.28 and 1.17 / 0.49 / 0.28 / 0.93 m/s;
-        // bodies at rest 98.7 / 99.0 / 98.7 / 99.0% and 94.5 / 97.3 / 99.4 / 97.6%. (In the
-        // earlier cell order: rod 0.55 / 0.50 / 0.40 / 0.48 m/s and 98.8 / 94.8 / 98.8 /
-        // 97.6%: the same spread, its worst sample on another layout.)
+    // per spine (chain3, rod): each layout's mean total dislocation, per-frame dislocation and
+    // stillness at the end
+    let mut means = [0.0f32; 2];
+    let mut per_frame: [Vec<Vec<f32>>; 2] = Default::default();
+    let mut still: [Vec<(f32, f32, f32)>; 2] = Default::default();
+    for seed in [7, 1, 2, 3] {
+        for (k, spine) in [SpineKind::Chain3, SpineKind::Rod].into_iter().enumerate() {
+            let (lab, dislocation, lowest) = drop(spine, seed);
+            // body centres stay above the floor (the thinnest limb has a 4 cm radius)
+            assert!(lowest > 0.0, "{spine}: a body centre reached y = {lowest}");
+            let (centre, point, resting) = stillness(&lab);
+            println!(
+                "seed {seed}, {spine}: mean total dislocation {:.1} cm; at the end fastest \
+                 centre {centre:.3} m/s, fastest point {point:.3} m/s, {:.1}% of bodies with \
+                 every point under 0.2 m/s",
+                mean(&dislocation),
+                100.0 * resting
+            );
+            means[k] += mean(&dislocation);
+            per_frame[k].push(dislocation);
+            still[k].push((centre, point, resting));
+        }
+    }
+    // Nearly at rest: a few limbs caught between stair boxes and other ragdolls still twitch
+    // about their long axis. Each pile is one chaotic sample (these figures move with the
+    // order contacts are solved in and with any change to the box's points), so the medians
+    // over the four layouts are held to the bounds and each layout to looser ones. Measured
+    // (seeds 7 / 1 / 2 / 3) since the box's nearest point is exact: fastest centre
+    // 0.29 / 0.19 / 0.35 / 0.29 m/s chain3 and 0.40 / 0.22 / 0.08 / 0.08 rod; fastest point
+    // 0.58 / 0.31 / 0.93 / 0.59 and 1.32 / 0.61 / 0.39 / 0.24 m/s; at rest 99.0 / 98.5 / 95.9
+    // / 99.7% and 93.3 / 97.3 / 97.0 / 99.7%. Before it seed 7 alone was held to the bounds
+    // (rod 0.30 m/s, 1.17 m/s, 94.5%); over layouts 1-16 the two builds' piles twitch alike
+    // (fastest point 0.60 and 0.55 m/s on average, `rodlab layouts scenes/ragdoll_drop.toml
+    // --seeds 1-16`).
+    for (k, spine) in ["chain3", "rod"].into_iter().enumerate() {
+        let centre = median(still[k].iter().map(|s| s.0).collect());
+        let point = median(still[k].iter().map(|s| s.1).collect());
+        let resting = median(still[k].iter().map(|s| s.2).collect());
         assert!(
-            fastest_centre < 0.35,
-            "{spine}: a body centre still moves at {fastest_centre} m/s after 10 s"
+            centre < 0.35,
+            "{spine}: the median layout's fastest centre moves at {centre} m/s after 10 s"
         );
         assert!(
-            fastest_point < 1.5,
-            "{spine}: a body's surface still moves at {fastest_point} m/s after 10 s"
+            point < 1.5,
+            "{spine}: the median layout's fastest surface point moves at {point} m/s"
         );
         assert!(
             resting > 0.94,
-            "{spine}: only {:.1}% of bodies at rest",
+            "{spine}: the median layout has only {:.1}% of bodies at rest",
             100.0 * resting
         );
-        println!(
-            "seed 7, {spine}: mean total dislocation {:.1} cm",
-            mean(&dislocation)
-        );
-        means.push(mean(&dislocation));
-        per_frame.push(dislocation);
+        for &(centre, point, resting) in &still[k] {
+            assert!(
+                centre < 0.6 && point < 2.0 && resting > 0.9,
+                "{spine}: {still:?}"
+            );
+        }
     }
     // The paper's result over four layouts: one pile is a chaotic sample (measured, seeds
-    // 7 / 1 / 2 / 3: chain3 65.2 / 48.4 / 50.2 / 47.8 cm, rod 53.1 / 40.2 / 40.0 / 36.6 cm),
+    // 7 / 1 / 2 / 3: chain3 58.4 / 54.9 / 51.4 / 52.7 cm, rod 46.4 / 42.8 / 47.6 / 40.0 cm),
     // so the means over the layouts are compared, and the frames of all four where the rod is
-    // lower are counted. Measured: 2308 of 2400 (96.2%); in the broad phase's earlier cell
+    // lower are counted. Measured: 2119 of 2400 (88.3%; 2308, 96.2%, before the box's exact
+    // nearest point); in the broad phase's earlier cell
     // order 2030 (84.6%: seed 3's settled rod pile sat above its chain3), and 97% before the
     // speculative reach counted spin. One layout flips with small changes to contacts, so the
     // bound stays at 80% rather than the issue's 90%.
     let (mut lower, mut frames) = (0, 0);
-    let mut count = |chain3: &[f32], rod: &[f32]| {
+    for (chain3, rod) in per_frame[0].iter().zip(&per_frame[1]) {
         lower += chain3.iter().zip(rod).filter(|(c, r)| r < c).count();
         frames += chain3.len();
-    };
-    count(&per_frame[0], &per_frame[1]);
-    for seed in [1, 2, 3] {
-        let [chain3, rod] = [SpineKind::Chain3, SpineKind::Rod].map(|spine| drop(spine, seed).1);
-        for (k, (spine, d)) in [("chain3", &chain3), ("rod", &rod)].into_iter().enumerate() {
-            println!(
-                "seed {seed}, {spine}: mean total dislocation {:.1} cm",
-                mean(d)
-            );
-            means[k] += mean(d);
-        }
-        count(&chain3, &rod);
     }
     println!(
         "rod below chain3 on {lower} of {frames} frames ({:.1}%)",
@@ -466,9 +479,10 @@ fn landing_overlap_with_sweeps(spine: SpineKind, extra_sweeps: u32) -> (f32, f32
 
 /// Issue 10's 1 cm: the contacts solved alone after each substep's joint sweep push out what
 /// that sweep left, so the landing stays within a centimetre for both spines (over the whole
-/// 10 s and layouts 7 / 1 / 2 / 3 the deepest is 0.45-0.89 cm, docs/solver.md), where the
-/// same method without them lets 1.1-1.3 cm through here; and each frame's deepest overlap is
-/// smaller on average.
+/// 10 s and layouts 7 / 1 / 2 / 3 the deepest is 0.05-0.54 cm, `rodlab layouts
+/// scenes/ragdoll_drop.toml --variant redetect_sweeps --seeds 1-3,7`); here 0.20 / 0.54 cm
+/// (chain3 / rod) where the same method without them lets 0.62 / 0.74 cm through (1.1-1.3 cm
+/// before stacking's ratio was capped); and each frame's deepest overlap is smaller on average.
 #[test]
 fn extra_contact_sweeps_keep_the_drops_landing_within_a_centimetre() {
     let _alone = one_at_a_time();

@@ -161,6 +161,11 @@ fn negative_or_infinite_contact_softness() {
         ),
         ("contact_damping_ratio", "-0.5", "must be 0 or more"),
         ("contact_damping_ratio", "nan", "must be 0 or more"),
+        (
+            "contact_stacking_max_ratio",
+            "0.5",
+            "must be a mass ratio of 1 or more (or inf)",
+        ),
     ] {
         let e = error_for(
             "iterations = 10",
@@ -184,10 +189,11 @@ fn sleep_and_push_speed_reach_the_settings() {
     assert_eq!(default.settings.contact_push_speed, f32::INFINITY);
     assert_eq!(default.settings.contact_warm_start, 0.0);
     assert_eq!(default.settings.contact_hertz, 0.0);
+    assert_eq!(default.settings.contact_stacking_max_ratio, f32::INFINITY);
     let text = GOOD.replacen(
         "iterations = 10",
         "iterations = 10\nsleep = true\ncontact_push_speed = 3.0\ncontact_warm_start = 0.25\n\
-         contact_hertz = 30.0\ncontact_damping_ratio = 0.5",
+         contact_hertz = 30.0\ncontact_damping_ratio = 0.5\ncontact_stacking_max_ratio = 3.0",
         1,
     );
     let world = Scene::parse("scenes/x.toml", &text)
@@ -200,6 +206,7 @@ fn sleep_and_push_speed_reach_the_settings() {
     assert_eq!(world.settings.contact_warm_start, 0.25);
     assert_eq!(world.settings.contact_hertz, 30.0);
     assert_eq!(world.settings.contact_damping_ratio, 0.5);
+    assert_eq!(world.settings.contact_stacking_max_ratio, 3.0);
 }
 
 #[test]

@@ -127,6 +127,10 @@ pub struct SceneDef {
     /// the paper's contact (see `contact::Stacking`).
     #[serde(default)]
     pub contact_stacking: f32,
+    /// The most times heavier stacking makes the lower body (1 or more); `inf` (the default)
+    /// is no cap.
+    #[serde(default = "default_contact_stacking_max_ratio")]
+    pub contact_stacking_max_ratio: f32,
     /// Print a residual row every this many frames (0: only the summary).
     #[serde(default)]
     pub report_every: u32,
@@ -200,6 +204,10 @@ fn default_max_speed() -> f32 {
 }
 fn default_max_angular_speed() -> f32 {
     Settings::default().max_angular_speed
+}
+
+fn default_contact_stacking_max_ratio() -> f32 {
+    Settings::default().contact_stacking_max_ratio
 }
 
 fn default_angular_speed_limit() -> f32 {

@@ -227,6 +227,7 @@ fn stacking_scales_are_consistent_through_a_third_body() {
     let stacking = Stacking {
         up: Vec3::Y,
         rate: 15.0,
+        max_ratio: f32::INFINITY,
     };
     let [p, q, r] = [0.1f32, 0.25, 0.33].map(|y| Vec3::new(0.3 * y, y, -y));
     // the inverse-mass ratio lower : upper of a pair, as a mass ratio upper-relative
@@ -245,6 +246,35 @@ fn stacking_scales_are_consistent_through_a_third_body() {
     let weightless = Stacking {
         up: Vec3::ZERO,
         rate: 15.0,
+        max_ratio: f32::INFINITY,
     };
     assert_eq!(weightless.scales(p, r), (1.0, 1.0));
+}
+
+/// A cap on the ratio holds the lower body at most `max_ratio` times heavier, from the height
+/// where `e^(k dh)` reaches it, and leaves the scales below that height alone.
+#[test]
+fn a_capped_stacking_ratio_stops_growing_at_its_height() {
+    use rodlab::contact::Stacking;
+    let uncapped = Stacking {
+        up: Vec3::Y,
+        rate: 10.0,
+        max_ratio: f32::INFINITY,
+    };
+    let capped = Stacking {
+        max_ratio: std::f32::consts::E,
+        ..uncapped
+    };
+    for dh in [0.02f32, 0.05, 0.099, 0.101, 0.2, 0.5, 2.0] {
+        let (lower, upper) = capped.scales(Vec3::ZERO, dh * Vec3::Y);
+        assert_eq!(upper, 1.0);
+        let expected = (-10.0 * dh.min(0.1)).exp();
+        assert!(
+            (lower - expected).abs() < 1e-6,
+            "dh {dh}: {lower} against {expected}"
+        );
+        if dh < 0.1 {
+            assert_eq!((lower, upper), uncapped.scales(Vec3::ZERO, dh * Vec3::Y));
+        }
+    }
 }
