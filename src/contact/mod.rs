@@ -30,6 +30,7 @@
 //! a pair collides only if each body's group bits meet the other's mask bits.
 
 pub mod box_box;
+pub mod box_capsule;
 pub mod broadphase;
 pub mod collider;
 pub mod detect;
