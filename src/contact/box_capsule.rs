@@ -70,17 +70,10 @@ fn box_segment_features(
     out: &mut Vec<Feature>,
 ) {
     let p = segment_point_nearest_box(s0, s1, half);
-    let mut candidates = [
-        Some(p),
-        Some(s0),
-        Some(s1),
-        None,
-        None,
-        None,
-        None,
-        None,
-        None,
-    ];
+    // slots (the points' feature ids): the nearest point, the segment's ends, and two per
+    // face axis for the ends of its part over that face
+    let mut candidates: [Option<Vec3>; 9] = [None; 9];
+    (candidates[0], candidates[1], candidates[2]) = (Some(p), Some(s0), Some(s1));
     for (k, near) in faces_near(p, half).into_iter().enumerate() {
         if near {
             // an end of the segment's part over the face that is an end of the segment is
