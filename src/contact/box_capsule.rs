@@ -134,12 +134,17 @@ fn clip_to_face(s0: Vec3, s1: Vec3, k: usize, half: Vec3) -> (Vec3, Vec3) {
     if low > high {
         return (s0, s1);
     }
-    let at = |t: f32| match t {
+    (point_at(s0, s1, low), point_at(s0, s1, high))
+}
+
+/// The point of segment [s0, s1] at parameter `t`, its ends exactly (`s0 + 1 (s1 - s0)` may
+/// round off `s1`, and an end is recognised as one by equality).
+fn point_at(s0: Vec3, s1: Vec3, t: f32) -> Vec3 {
+    match t {
         0.0 => s0,
         1.0 => s1,
-        _ => s0 + t * d,
-    };
-    (at(low), at(high))
+        _ => s0 + t * (s1 - s0),
+    }
 }
 
 /// The faces whose clipped segments [`box_segment_features`] tries, for the segment's point `p`
@@ -219,15 +224,12 @@ fn segment_point_nearest_box(s0: Vec3, s1: Vec3, half: Vec3) -> Vec3 {
             (best_t, best) = (t, distance);
         }
     }
-    match best_t {
-        0.0 => s0,
-        1.0 => s1,
-        t => at(t),
-    }
+    point_at(s0, s1, best_t)
 }
 
 /// The box's signed distance at `p` (box space): outside, the distance to the box; inside,
-/// minus the depth below the nearest face.
+/// minus the depth below the nearest face. [`point_box`]'s distance without its surface point
+/// and normal, for the many evaluations along a segment.
 fn signed_distance_to_box(p: Vec3, half: Vec3) -> f32 {
     let beyond = p.abs() - half;
     let outside = beyond.max(Vec3::ZERO).length();

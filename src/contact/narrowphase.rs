@@ -3,8 +3,7 @@
 //! and half-space; box with half-space; box with sphere/capsule in [`super::box_capsule`], box
 //! with box in [`super::box_box`]. Shapes are read from the step's [`Collider`] records.
 
-use super::box_capsule::box_capsule;
-use super::box_capsule::box_capsule_gap;
+use super::box_capsule::{box_capsule, box_capsule_gap};
 use super::collider::Collider;
 use super::feature::{closest_points_on_segments, Feature, FeatureId};
 use crate::math::Vec3;
