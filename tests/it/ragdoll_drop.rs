@@ -1,7 +1,8 @@
 //! The 30-ragdoll drop (paper Fig. 1, bottom of Fig. 8): ten seconds without NaN, nothing
 //! through the floor, every body nearly at rest at the end, and the rod spine leaving less
 //! dislocation than the three-joint spine: on the mean over four layouts, and on at least 80%
-//! of all their frames (the contacts issue asks for 90%; see the test).
+//! of all their frames. The contacts issue's 90% is held with stacking, the paper's method
+//! with contacts that carry the pile's weight (`with_stacking_the_rod_spine_is_lower...`).
 
 use rodlab::cli::load_scene;
 use rodlab::lab::Lab;
@@ -145,7 +146,7 @@ fn thirty_ragdolls_land_and_settle_and_the_rod_spine_leaves_less_residual() {
     // nearest point); in the broad phase's earlier cell
     // order 2030 (84.6%: seed 3's settled rod pile sat above its chain3), and 97% before the
     // speculative reach counted spin. One layout flips with small changes to contacts, so the
-    // bound stays at 80% rather than the issue's 90%.
+    // bound stays at 80% here; the issue's 90% is held at the stacked variant (below).
     let (mut lower, mut frames) = (0, 0);
     for (chain3, rod) in per_frame[0].iter().zip(&per_frame[1]) {
         lower += chain3.iter().zip(rod).filter(|(c, r)| r < c).count();
@@ -404,33 +405,31 @@ fn the_capped_ratio_keeps_nearly_every_landing_within_a_centimetre() {
     );
 }
 
+/// The drop at one of its variants, spine and layout seed: the total dislocation (cm) per frame.
+fn dislocation_per_frame(variant: Option<&str>, spine: SpineKind, seed: u64) -> Vec<f32> {
+    let overrides = Overrides {
+        spine: Some(spine),
+        seed: Some(seed),
+        ..Default::default()
+    };
+    let scene = load_scene(SCENE.as_ref(), variant, &overrides).unwrap();
+    let mut lab = scene.build().unwrap();
+    let report = sim::run(&mut lab, scene.def.frames, &mut sim::NoObserver).unwrap();
+    report.total_dislocation_cm
+}
+
 /// Stacking carries the pile's weight (issue 10, the settled residual): the scene's `stacked`
 /// variant is the paper's method (one step of 20 iterations, cheap joints, hard contacts) with
 /// PBD's mass scaling by height in the contacts, k = 10 /m. On the scene's layout it leaves
-/// well under the paper's settled dislocation (frames 300-600) for both spines, and the rod
-/// spine stays below chain3 on the settled frames (the paper's result at rest). Measured (seed
-/// 7, total over 30 ragdolls): chain3 62.9 -> 25.8 cm, rod 51.0 -> 17.9 cm, rod below chain3 on
-/// 300 of 300 settled frames; over seeds 7 / 1 / 2 / 3 the ratio is 0.41-0.65 (chain3) and
-/// 0.35-0.53 (rod), and the rod is lower on 1200 of their 1200 settled frames (a probe not
-/// kept; docs/solver.md, Stacking).
+/// well under the paper's settled dislocation (frames 300-600) for both spines. Measured (seed
+/// 7, total over 30 ragdolls, since the box's nearest point is exact): chain3 54.8 -> 25.1 cm,
+/// rod 43.5 -> 20.9 cm (docs/solver.md, Stacking, for other layouts).
 #[test]
 fn stacking_leaves_less_than_two_thirds_of_the_papers_settled_dislocation() {
     let _alone = one_at_a_time();
-    let settled = |variant: Option<&str>, spine: SpineKind| {
-        let spine = Overrides {
-            spine: Some(spine),
-            ..Default::default()
-        };
-        let scene = load_scene(SCENE.as_ref(), variant, &spine).unwrap();
-        let mut lab = scene.build().unwrap();
-        let report = sim::run(&mut lab, scene.def.frames, &mut sim::NoObserver).unwrap();
-        report.total_dislocation_cm[300..].to_vec()
-    };
-    let mut stacked_per_spine = Vec::new();
     for spine in [SpineKind::Chain3, SpineKind::Rod] {
-        let paper = mean(&settled(None, spine));
-        let stacked_frames = settled(Some("stacked"), spine);
-        let stacked = mean(&stacked_frames);
+        let paper = mean(&dislocation_per_frame(None, spine, 7)[300..]);
+        let stacked = mean(&dislocation_per_frame(Some("stacked"), spine, 7)[300..]);
         println!(
             "{spine}: settled total dislocation {paper:.1} cm (paper) -> {stacked:.1} cm (stacked)"
         );
@@ -438,18 +437,42 @@ fn stacking_leaves_less_than_two_thirds_of_the_papers_settled_dislocation() {
             stacked < 0.66 * paper,
             "{spine}: stacking left {stacked} cm against the paper's {paper} cm"
         );
-        stacked_per_spine.push(stacked_frames);
     }
-    let (chain3, rod) = (&stacked_per_spine[0], &stacked_per_spine[1]);
-    let lower = chain3.iter().zip(rod).filter(|(c, r)| r < c).count();
-    println!(
-        "stacked: rod below chain3 on {lower} of {} settled frames",
-        rod.len()
+}
+
+/// The paper's result with contacts that hold (issue 10's target: the rod below chain3 on at
+/// least 90% of all frames, over the scene's layout and seeds 1-3). At the `stacked` variant
+/// (the paper's 1 x 20 with stacking) the rod is lower on 534 / 573 / 572 / 568 of the 600
+/// frames of layouts 7 / 1 / 2 / 3 (2247 of 2400, 93.6%) and on every settled frame (300-600),
+/// where the paper's plain method, the reference, gives 88.3% (the test above) and the
+/// `at_rest` variant, whose piles fall asleep wherever they stop, 78.0%.
+#[test]
+fn with_stacking_the_rod_spine_is_lower_on_nine_frames_in_ten() {
+    let _alone = one_at_a_time();
+    let (mut lower, mut frames, mut settled_lower, mut settled) = (0, 0, 0, 0);
+    for seed in [7, 1, 2, 3] {
+        let chain3 = dislocation_per_frame(Some("stacked"), SpineKind::Chain3, seed);
+        let rod = dislocation_per_frame(Some("stacked"), SpineKind::Rod, seed);
+        let below = |from: usize| {
+            (chain3[from..].iter().zip(&rod[from..]))
+                .filter(|(c, r)| r < c)
+                .count()
+        };
+        println!(
+            "seed {seed}: rod below chain3 on {} of {} frames",
+            below(0),
+            rod.len()
+        );
+        (lower, frames) = (lower + below(0), frames + rod.len());
+        (settled_lower, settled) = (settled_lower + below(300), settled + rod.len() - 300);
+    }
+    assert!(
+        lower as f32 >= 0.9 * frames as f32,
+        "stacked: rod below chain3 on only {lower} of {frames} frames"
     );
     assert!(
-        lower as f32 >= 0.9 * rod.len() as f32,
-        "stacked: rod below chain3 on only {lower} of {} settled frames",
-        rod.len()
+        settled_lower as f32 >= 0.97 * settled as f32,
+        "stacked: rod below chain3 on only {settled_lower} of {settled} settled frames"
     );
 }
 
