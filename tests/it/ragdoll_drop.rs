@@ -28,15 +28,12 @@ fn one_at_a_time() -> std::sync::MutexGuard<'static, ()> {
 /// Runs the drop with one spine and layout seed; returns the final lab, the total dislocation
 /// (cm) per frame and the lowest body centre (m).
 fn drop(spine: SpineKind, seed: u64) -> (Lab, Vec<f32>, f32) {
-    let text = std::fs::read_to_string(SCENE).unwrap();
-    assert!(text.contains("seed = 7"));
-    let text = text.replace("seed = 7", &format!("seed = {seed}"));
-    let mut scene = Scene::parse(SCENE, &text).unwrap();
-    Overrides {
+    let overrides = Overrides {
         spine: Some(spine),
+        seed: Some(seed),
         ..Default::default()
-    }
-    .apply(&mut scene.def);
+    };
+    let scene = load_scene(SCENE.as_ref(), None, &overrides).unwrap();
     let mut lab = scene.build().unwrap();
     assert_eq!(lab.ragdolls.len(), 30);
     let mut lowest = f32::INFINITY;
@@ -257,13 +254,12 @@ fn the_detection_profile_accounts_for_detection() {
 /// The drop at its `at_rest` variant on layout `seed` with one spine; returns the final lab and
 /// the run's report.
 fn drop_at_rest(seed: u64, spine: SpineKind) -> (Lab, sim::RunReport) {
-    let mut scene = Scene::load(SCENE).unwrap().variant("at_rest").unwrap();
-    Overrides {
+    let overrides = Overrides {
         spine: Some(spine),
         seed: Some(seed),
         ..Default::default()
-    }
-    .apply(&mut scene.def);
+    };
+    let scene = load_scene(SCENE.as_ref(), Some("at_rest"), &overrides).unwrap();
     assert!(scene.def.sleep && scene.def.joint_damping > 0.0);
     let mut lab = scene.build().unwrap();
     let report = sim::run(&mut lab, scene.def.frames, &mut sim::NoObserver).unwrap();
@@ -540,18 +536,13 @@ fn detecting_contacts_every_substep_leaves_less_overlap_than_once_a_frame() {
 /// 0-150, with `extra_sweeps` in place of its six (`None`: its own): (the mean over frames of
 /// each frame's deepest overlap found afresh, the deepest over the run), cm.
 fn landing_overlap_with_sweeps(spine: SpineKind, extra_sweeps: Option<u32>) -> (f32, f32) {
-    let path = format!("{}/scenes/ragdoll_drop.toml", env!("CARGO_MANIFEST_DIR"));
-    let mut scene = rodlab::scene::Scene::load(path)
-        .unwrap()
-        .variant("redetect_sweeps")
-        .unwrap();
-    Overrides {
+    let overrides = Overrides {
         spine: Some(spine),
         contact_extra_sweeps: extra_sweeps,
         frames: Some(150),
         ..Default::default()
-    }
-    .apply(&mut scene.def);
+    };
+    let scene = load_scene(SCENE.as_ref(), Some("redetect_sweeps"), &overrides).unwrap();
     let mut lab = scene.build().unwrap();
     let mut per_frame = Vec::new();
     let mut observer =
