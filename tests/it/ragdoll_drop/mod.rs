@@ -1,0 +1,60 @@
+//! The 30-ragdoll drop (paper Fig. 1, bottom of Fig. 8), by what each file asserts:
+//! - `paper`: ten seconds without NaN, nothing through the floor, every body nearly at rest at
+//!   the end, and the rod spine leaving less dislocation than the three-joint spine, on the mean
+//!   over four layouts and on at least 80% of all their frames (the paper's method, the
+//!   reference line);
+//! - `stacking`: the contacts issue's 90%, held with stacking (the paper's method with
+//!   contacts that carry the pile's weight);
+//! - `at_rest`: the pile falls asleep at the scene's `at_rest` variant, on its layout and as a
+//!   rate over 256 layouts;
+//! - `landing`: the deepest overlap of the landing, with contacts found every substep and
+//!   swept alone after each substep's iteration, within 1 cm;
+//! - `profile`: the step's and detection's profiles account for their time.
+//!
+//! Helpers the files share are here.
+
+mod at_rest;
+mod landing;
+mod paper;
+mod profile;
+mod stacking;
+
+use rodlab::ragdoll::SpineKind;
+use rodlab::sim::Overrides;
+
+const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/ragdoll_drop.toml");
+
+/// The drop tests run one at a time: they share rayon's global pool, and a step
+/// waiting for the other test's work to leave the pool spends that wait outside every profiled
+/// phase (the profile test measured 80% of its stepping time in phases when they overlapped).
+static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+fn one_at_a_time() -> std::sync::MutexGuard<'static, ()> {
+    ONE_AT_A_TIME
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner())
+}
+
+fn mean(values: &[f32]) -> f32 {
+    values.iter().sum::<f32>() / values.len() as f32
+}
+
+/// The layouts the surveys (`at_rest`, `landing`) run: seeds 1-64, both spines (128 runs).
+const SURVEY_RUNS: usize = 128;
+
+/// The scene's `variant` with `overrides` on layouts 1-64 x both spines.
+fn survey(variant: &str, overrides: &Overrides) -> Vec<rodlab::sweep::layouts::LayoutRun> {
+    let seeds: Vec<u64> = (1..=64).collect();
+    let spines = [SpineKind::Chain3, SpineKind::Rod];
+    let runs = rodlab::sweep::layouts::run_layouts(
+        SCENE.as_ref(),
+        Some(variant),
+        overrides,
+        &seeds,
+        &spines,
+        |_| {},
+    )
+    .unwrap();
+    assert_eq!(runs.len(), SURVEY_RUNS);
+    runs
+}
