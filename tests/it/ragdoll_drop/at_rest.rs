@@ -23,13 +23,13 @@ fn drop_at_rest(seed: u64, spine: SpineKind) -> (Lab, sim::RunReport) {
 
 /// The drop at rest (issue 10): at the scene's `at_rest` variant (4 substeps of 4 iterations,
 /// SIMD, exact joints, contacts warm-started at 0.25 and soft at 60 Hz, joint damping 0.2
-/// N m s/rad (0.1 until stop 47), sleeping on) the pile is asleep, or has every surface point under the sleep
-/// speed, after its 10 s, with either spine, on the scene's layout (seed 7) and seeds 1-3. With
-/// one row along a hinge's error 7 of the 26 piles of seeds 7 and 1-13 x both spines were still
-/// awake at frame 600, their limbs twisting back and forth every substep across an elbow; since
-/// the exact flavour aligns a hinge's axes as one 2x2 block, 0, 0 and 3 of the 26 in three
-/// builds that differ only in rounding, the 3 moved by late slides in the pile
-/// (docs/benchmarks.md, stop 35). Layout 6 (rod) is the trapped forearm's (docs/solver.md, Push
+/// N m s/rad (0.1 until stop 47), sleeping on) the pile is asleep, or has every surface point
+/// under the sleep speed, after its 10 s, with either spine, on the scene's layout (seed 7)
+/// and seeds 1-3. With one row along a hinge's error 7 of the 26 piles of seeds 7 and 1-13 x
+/// both spines were still awake at frame 600, their limbs twisting back and forth every
+/// substep across an elbow; since the exact flavour aligns a hinge's axes as one 2x2 block, 0,
+/// 0 and 3 of the 26 in three builds that differ only in rounding, the 3 moved by late slides
+/// in the pile (docs/benchmarks.md, stop 35). Layout 6 (rod) is the trapped forearm's (docs/solver.md, Push
 /// speed): without the variant's 5 m/s push speed one ragdoll flails on the floor to the end.
 /// At rest the overlapping contact points overlap by under 2 mm on average (measured 0.63 mm
 /// chain3, 0.85 mm rod; 2.8-2.9 mm with 30 Hz contacts, which sink further under a pile).
@@ -46,7 +46,13 @@ fn the_drop_pile_falls_asleep_at_the_scenes_at_rest_variant() {
         let dynamic = lab.world.bodies.iter().filter(|b| b.is_dynamic()).count();
         let asleep = lab.world.bodies.iter().filter(|b| b.is_asleep()).count();
         let first_all_asleep = report.awake_bodies.iter().position(|&n| n == 0);
-        println!("seed {seed}, {spine}: {asleep} of {dynamic} bodies asleep after 10 s, all from frame {first_all_asleep:?}; still moving: {:?}", report.restless.iter().map(|(n, r)| (n, r.point_speed)).collect::<Vec<_>>());
+        let still_moving: Vec<_> = (report.restless.iter())
+            .map(|(n, r)| (n, r.point_speed))
+            .collect();
+        println!(
+            "seed {seed}, {spine}: {asleep} of {dynamic} bodies asleep after 10 s, all from frame \
+             {first_all_asleep:?}; still moving: {still_moving:?}"
+        );
         assert!(
             report.restless.is_empty(),
             "seed {seed}, {spine}: bodies still moving at or over {SLEEP_SPEED} m/s after 10 s: {:?}",

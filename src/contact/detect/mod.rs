@@ -8,23 +8,23 @@
 //! A chunk lists the pairs it must test, runs the shape tests of its sphere and capsule pairs
 //! W at a time ([`round_lanes`], the scalar results to the bit), then makes every pair's
 //! points in pair order.
+//!
+//! The chunks' bookkeeping is in `chunks`; one pair's narrow phase and points in `pair`.
 
-use super::broadphase::gaps::{self, Motion};
+mod chunks;
+mod pair;
+
+use super::broadphase::gaps::Motion;
 use super::broadphase::{BroadPhase, Joined, UpdateTiming};
 use super::collider::{self, Collider, PARALLEL_BODIES};
-use super::feature::Feature;
 use super::handover::Handover;
-use super::round_lanes::{self, round_radius, RoundPair, RoundResult, RoundTest};
-use super::{manifold, narrowphase, ContactPoint, PARALLEL_PAIRS};
-use crate::body::{Body, BodyId};
+use super::round_lanes::{self, RoundPair, RoundTest};
+use super::{ContactPoint, PARALLEL_PAIRS};
+use crate::body::Body;
 use crate::constraint::Constraints;
+use chunks::{chunk_starts, concatenate, each_chunk, ChunkOut};
+use pair::PairContext;
 use std::time::Instant;
-
-/// How many kept pairs' work one of the others (a large box's or a half-space's pair: all
-/// tested, most of them touching) is, to balance the narrow phase's chunks. With chunks of
-/// equal pair counts the settled rain's last chunk, which holds the others, took 0.72 ms
-/// against 0.40 for each of the rest, and one thread waited on it.
-const OTHER_WORK: usize = 3;
 
 /// What detection keeps from step to step (reused storage, and the broad phase's pairs).
 #[derive(Clone, Debug, Default)]
@@ -32,7 +32,7 @@ pub struct Detection {
     /// What detection reads of each body this step, and read last step.
     colliders: Vec<Collider>,
     previous: Vec<Collider>,
-    /// How each body moved since last step ([`gaps`]).
+    /// How each body moved since last step ([`gaps`](super::broadphase::gaps)).
     motions: Vec<Motion>,
     handover: Handover,
     broad_phase: BroadPhase,
@@ -73,7 +73,7 @@ pub struct DetectionProfile {
     pub rebuilt: bool,
     /// Pairs the narrow phase tested (the skipped ones not counted).
     pub pairs_tested: usize,
-    /// Pairs the gap bounds skipped as proven out of reach ([`gaps`]).
+    /// Pairs the gap bounds skipped as proven out of reach ([`gaps`](super::broadphase::gaps)).
     pub pairs_skipped: usize,
 }
 
@@ -264,7 +264,8 @@ impl Detection {
     }
 
     /// How many candidate pairs the last detection skipped as proven out of reach
-    /// ([`gaps`]): pairs whose boxes overlap but whose shapes cannot make a point.
+    /// ([`gaps`](super::broadphase::gaps)): pairs whose boxes overlap but whose shapes cannot
+    /// make a point.
     pub fn pairs_skipped(&self) -> usize {
         self.profile.pairs_skipped
     }
@@ -275,183 +276,6 @@ impl Detection {
 pub fn joined(body_count: usize, constraints: &Constraints) -> Joined {
     let pairs = constraints.pairs_kept_apart().map(|(a, b)| (a.0, b.0));
     Joined::new(body_count, pairs)
-}
-
-/// Where each of `chunks` chunks of the candidates (`kept` kept pairs, then `others`) starts,
-/// and where the last ends, each chunk about the same work ([`OTHER_WORK`]).
-fn chunk_starts(kept: usize, others: usize, chunks: usize, starts: &mut Vec<usize>) {
-    let work = kept + OTHER_WORK * others;
-    starts.clear();
-    starts.extend((0..=chunks).map(|c| {
-        let w = work * c / chunks;
-        match w <= kept {
-            true => w,
-            false => (kept + (w - kept).div_ceil(OTHER_WORK)).min(kept + others),
-        }
-    }));
-}
-
-/// Runs `run(c, out, bounds)` for the chunks `first..` whose outputs are `outs`, each given its
-/// kept pairs' `bounds` (those from `kept_start(c)` on), halves on two threads.
-fn each_chunk<R, S>(
-    first: usize,
-    outs: &mut [ChunkOut],
-    bounds: &mut [f32],
-    kept_start: &S,
-    run: &R,
-) where
-    R: Fn(usize, &mut ChunkOut, &mut [f32]) + Sync,
-    S: Fn(usize) -> usize + Sync,
-{
-    if let [out] = outs {
-        return run(first, out, bounds);
-    }
-    let half = outs.len() / 2;
-    let (low, high) = outs.split_at_mut(half);
-    let at = kept_start(first + half) - kept_start(first);
-    let (low_bounds, high_bounds) = bounds.split_at_mut(at);
-    rayon::join(
-        || each_chunk(first, low, low_bounds, kept_start, run),
-        || each_chunk(first + half, high, high_bounds, kept_start, run),
-    );
-}
-
-/// Appends the chunks' points to `points` in chunk order, large outputs copied on several
-/// threads (the rain's 20 000 points are 2.6 MB).
-fn concatenate(chunks: &[ChunkOut], points: &mut Vec<ContactPoint>) {
-    use std::mem::MaybeUninit;
-    fn copy(parts: &[ChunkOut], to: &mut [MaybeUninit<ContactPoint>]) {
-        if parts.len() == 1 || to.len() < PARALLEL_PAIRS {
-            for (to, p) in to.iter_mut().zip(parts.iter().flat_map(|c| &c.points)) {
-                to.write(*p);
-            }
-            return;
-        }
-        let half = parts.len() / 2;
-        let (low, high) = to.split_at_mut(parts[..half].iter().map(|c| c.points.len()).sum());
-        rayon::join(|| copy(&parts[..half], low), || copy(&parts[half..], high));
-    }
-    let added: usize = chunks.iter().map(|c| c.points.len()).sum();
-    points.reserve(added);
-    let len = points.len();
-    copy(chunks, &mut points.spare_capacity_mut()[..added]);
-    // SAFETY: `copy` wrote all `added` elements after `len` (the chunks' lengths sum to it)
-    unsafe { points.set_len(len + added) };
-}
-
-/// One chunk's output of the narrow phase, reused from frame to frame.
-#[derive(Clone, Debug, Default)]
-struct ChunkOut {
-    points: Vec<ContactPoint>,
-    features: Vec<Feature>,
-    /// The pairs to test, each with its gap bound's place in the chunk (`u32::MAX` for the
-    /// large boxes' and half-spaces' pairs, which have none).
-    tested: Vec<(u32, u32, u32)>,
-    /// The tested pairs of spheres and capsules, and what the lanes found for each.
-    round_pairs: Vec<RoundPair>,
-    round_tests: Vec<RoundResult>,
-    /// Pairs whose gap bound proved them out of reach this step.
-    skipped: usize,
-    /// This chunk's share of [`DetectionProfile::narrow_phase_work`].
-    work: NarrowPhaseWork,
-}
-
-/// What the narrow phase of one pair reads.
-struct PairContext<'a> {
-    colliders: &'a [Collider],
-    handover: &'a Handover,
-    dt: f32,
-    margin: f32,
-}
-
-impl PairContext<'_> {
-    /// Whether both bodies are spheres or capsules ([`round_lanes`]).
-    fn is_round(&self, a: u32, b: u32) -> bool {
-        let round = |i: u32| round_radius(&self.colliders[i as usize].shape).is_some();
-        round(a) && round(b)
-    }
-
-    /// How far the pair's surfaces may be apart and still make a point: the margin plus how
-    /// far they may close this frame, the relative speed of the centres plus what spin adds at
-    /// the farthest surface point (a limb spinning at 20 rad/s moves its tip 5 cm a frame
-    /// further than its centre).
-    fn reach(&self, a: u32, b: u32) -> f32 {
-        let (ca, cb) = (&self.colliders[a as usize], &self.colliders[b as usize]);
-        let closing =
-            (ca.linear_velocity - cb.linear_velocity).length() + ca.spin_bound + cb.spin_bound;
-        self.margin + self.dt * closing
-    }
-
-    /// The contact points of the pair (a, b) within `reach` ([`Self::reach`]; filtered, then
-    /// the narrow phase, or what the lanes found, `test`) onto `points`, and a lower bound on
-    /// the distance of its shapes if it made none ([`gaps`]).
-    fn collide(
-        &self,
-        a: u32,
-        b: u32,
-        (test, reach): (RoundTest, f32),
-        points: &mut Vec<ContactPoint>,
-        features: &mut Vec<Feature>,
-    ) -> f32 {
-        let (ca, cb) = (&self.colliders[a as usize], &self.colliders[b as usize]);
-        if ca.collision_group & cb.collision_mask == 0
-            || cb.collision_group & ca.collision_mask == 0
-        {
-            return gaps::UNKNOWN;
-        }
-        features.clear();
-        match test {
-            RoundTest::Scalar => {
-                if !narrowphase::collide(ca, cb, reach, features) {
-                    return narrowphase::gap(ca, cb);
-                }
-            }
-            RoundTest::Apart { gap } => return gap,
-            RoundTest::Close { on_a, on_b, gap } => {
-                let radius = |c: &Collider| round_radius(&c.shape).unwrap_or(0.0);
-                let (on_a, on_b) = ((on_a, radius(ca)), (on_b, radius(cb)));
-                features.extend(narrowphase::sphere_sphere(ca, cb, on_a, on_b, reach, 0));
-                if features.is_empty() {
-                    return gap;
-                }
-            }
-        }
-        let static_friction = (ca.static_friction * cb.static_friction).sqrt();
-        let dynamic_friction = (ca.dynamic_friction * cb.dynamic_friction).sqrt();
-        let restitution = ca.restitution.max(cb.restitution);
-        let previous = self.handover.of_pair(a, b);
-        manifold::reduce(features, 0);
-        for f in features.iter() {
-            let (local_a, local_b) = (ca.local_point(f.point_a), cb.local_point(f.point_b));
-            let same = previous.clone().find(|p| p.id == f.id);
-            let warm_impulse = same.map_or(0.0, |p| p.normal_impulse);
-            let kept = same.filter(|p| p.sticking);
-            let (anchor_a, anchor_b) = kept.map_or((local_a, local_b), |p| {
-                let anchors = (p.anchor_a, p.anchor_b);
-                manifold::carried_anchors(anchors, ca, cb, f.normal, (local_a, local_b))
-            });
-            points.push(ContactPoint {
-                body_a: BodyId(a),
-                body_b: BodyId(b),
-                id: f.id,
-                normal: f.normal,
-                local_a,
-                local_b,
-                arm_a: f.point_a - ca.position,
-                arm_b: f.point_b - cb.position,
-                anchor_a,
-                anchor_b,
-                static_friction,
-                dynamic_friction,
-                restitution,
-                approach_speed: (cb.point_velocity(f.point_b) - ca.point_velocity(f.point_a))
-                    .dot(f.normal),
-                normal_impulse: warm_impulse,
-                ..ContactPoint::UNSOLVED
-            });
-        }
-        gaps::UNKNOWN
-    }
 }
 
 /// Each body's motion from its record last step to this step's (unknown for all when the
@@ -467,63 +291,5 @@ fn measure_motions(previous: &[Collider], now: &[Collider], motions: &mut Vec<Mo
     } else {
         let each = previous.iter().zip(now);
         motions.extend(each.map(|(before, now)| Motion::between(before, now)));
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The chunks cover the candidates in order, and their work (a kept pair 1, another
-    /// OTHER_WORK) is within two other pairs' of an even share.
-    #[test]
-    fn chunks_cover_the_candidates_with_even_work() {
-        let mut starts = Vec::new();
-        for (kept, others) in [
-            (0, 0),
-            (10, 0),
-            (0, 10),
-            (1000, 37),
-            (5, 200),
-            (69_000, 2500),
-        ] {
-            for chunks in [1, 3, 16] {
-                chunk_starts(kept, others, chunks, &mut starts);
-                assert_eq!(starts.len(), chunks + 1);
-                assert_eq!((starts[0], starts[chunks]), (0, kept + others));
-                assert!(starts.windows(2).all(|w| w[0] <= w[1]), "{starts:?}");
-                let work = |i: usize| i.min(kept) + OTHER_WORK * i.saturating_sub(kept);
-                let share = work(kept + others) as f64 / chunks as f64;
-                for c in 0..chunks {
-                    let done = (work(starts[c + 1]) - work(starts[c])) as f64;
-                    assert!(
-                        (done - share).abs() <= 2.0 * OTHER_WORK as f64,
-                        "kept {kept}, others {others}, chunk {c} of {chunks}: {done} of {share}"
-                    );
-                }
-            }
-        }
-    }
-
-    /// Each chunk is run once, with exactly its own kept pairs' bounds, whatever the split.
-    #[test]
-    fn each_chunk_gets_its_own_bounds() {
-        let (kept, others) = (1000, 300);
-        for chunks in [1, 2, 5, 16] {
-            let mut starts = Vec::new();
-            chunk_starts(kept, others, chunks, &mut starts);
-            let mut bounds: Vec<f32> = (0..kept).map(|i| i as f32).collect();
-            let mut outs = vec![ChunkOut::default(); chunks];
-            let kept_start = |c: usize| starts[c].min(kept);
-            let run = |c: usize, out: &mut ChunkOut, bounds: &mut [f32]| {
-                out.skipped = c + 1; // ran, once
-                let expected = (kept_start(c)..kept_start(c + 1)).map(|i| i as f32);
-                assert!(bounds.iter().copied().eq(expected), "chunk {c} of {chunks}");
-                bounds.iter_mut().for_each(|b| *b = -1.0);
-            };
-            each_chunk(0, &mut outs, &mut bounds, &kept_start, &run);
-            assert!(outs.iter().enumerate().all(|(c, o)| o.skipped == c + 1));
-            assert!(bounds.iter().all(|&b| b == -1.0));
-        }
     }
 }
