@@ -88,7 +88,7 @@ pub(super) struct ChunkOut {
     pub(super) round_tests: Vec<RoundResult>,
     /// Pairs whose gap bound proved them out of reach this step.
     pub(super) skipped: usize,
-    /// This chunk's share of [`DetectionProfile::narrow_phase_work`].
+    /// This chunk's share of [`super::DetectionProfile::narrow_phase_work`].
     pub(super) work: NarrowPhaseWork,
 }
 

@@ -18,7 +18,7 @@ pub(super) struct PairContext<'a> {
 }
 
 impl PairContext<'_> {
-    /// Whether both bodies are spheres or capsules ([`round_lanes`]).
+    /// Whether both bodies are spheres or capsules ([`round_lanes`](crate::contact::round_lanes)).
     pub(super) fn is_round(&self, a: u32, b: u32) -> bool {
         let round = |i: u32| round_radius(&self.colliders[i as usize].shape).is_some();
         round(a) && round(b)
