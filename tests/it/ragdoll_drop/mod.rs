@@ -6,9 +6,10 @@
 //! - `stacking`: the contacts issue's 90%, held with stacking (the paper's method with
 //!   contacts that carry the pile's weight);
 //! - `at_rest`: the pile falls asleep at the scene's `at_rest` variant, on its layout and as a
-//!   rate over 256 layouts;
-//! - `landing`: the deepest overlap of the landing, with contacts found every substep and
-//!   swept alone after each substep's iteration, within 1 cm;
+//!   rate over layouts 1-64 x both spines;
+//! - `landing`: the deepest overlap of the landing within 1 cm, with contacts found every
+//!   substep and swept alone after each substep's iteration (on four layouts, and as a rate
+//!   over layouts 1-64 x both spines);
 //! - `profile`: the step's and detection's profiles account for their time.
 //!
 //! Helpers the files share are here.
