@@ -253,8 +253,9 @@ fn rain_step(c: &mut Criterion) {
     group.finish();
     println!(
         "\nthe rain, {RAIN_RUNS} runs of {RAIN_STEPS} consecutive steps (median of all), {} \
-         thread(s):",
-        rayon::current_num_threads()
+         thread(s), machine: {}",
+        rayon::current_num_threads(),
+        rodlab::sweep::machine_name()
     );
     println!(
         "case               step ms   steps/s   detect ms   detect us per ragdoll   \

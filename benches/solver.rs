@@ -347,8 +347,10 @@ fn ns_per_solve(mut round: impl FnMut() -> std::time::Duration) -> f64 {
 /// and rod/cheap.
 fn summary() {
     println!(
-        "\nns per constraint (fastest of 2000 rounds of {COUNT}), machine: {}",
-        rodlab::sweep::machine_name()
+        "\nns per constraint (fastest of 2000 rounds of {COUNT}), machine: {}; this build's \
+         SIMD solver runs {} lanes",
+        rodlab::sweep::machine_name(),
+        rodlab::solver::SIMD_WIDTH
     );
     println!(
         "{:<20} {:>8} {:>8} {:>8} {:>8} {:>8}",

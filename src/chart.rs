@@ -71,7 +71,11 @@ impl Chart {
              font-family=\"sans-serif\" font-size=\"12\">\n"
         ));
         svg.rect((0.0, 0.0), (WIDTH, HEIGHT), r#"fill="white""#);
-        let title_style = format!(r#"{MIDDLE} font-size="17" font-weight="bold""#);
+        // 17 px, smaller for a title that would not fit the width (a bold sans-serif character
+        // is about 0.62 of the font size wide)
+        let fits = (WIDTH - 40.0) / (0.62 * self.title.chars().count().max(1) as f64);
+        let title_size = fits.min(17.0).floor();
+        let title_style = format!(r#"{MIDDLE} font-size="{title_size}" font-weight="bold""#);
         svg.text((WIDTH / 2.0, 30.0), &title_style, &self.title);
         for (fraction, label) in x_axis.ticks() {
             let (x, length) = (x_pixel(fraction), if label.is_some() { 6.0 } else { 3.0 });
@@ -387,5 +391,26 @@ mod tests {
         let svg = chart.to_svg();
         assert!(svg.contains(">x &lt; y &amp; z &gt; w<"));
         assert!(svg.contains(">&lt;a &amp; &quot;b&quot;&gt;<"));
+    }
+
+    /// A short title is drawn at 17 px; a long one (a sweep's, with the machine's full name)
+    /// smaller, so that its estimated width stays within the chart's.
+    #[test]
+    fn a_long_title_is_drawn_small_enough_to_fit() {
+        let title_size = |title: &str| {
+            let mut chart = chart(false, &[("a", &[(1.0, 2.0)])]);
+            chart.title = title.into();
+            let svg = chart.to_svg();
+            let title_text = svg
+                .lines()
+                .find(|l| l.contains(&format!(">{title}<")))
+                .unwrap();
+            let size = title_text.split("font-size=\"").nth(1).unwrap();
+            size[..size.find('"').unwrap()].parse::<f64>().unwrap()
+        };
+        assert_eq!(title_size("short"), 17.0);
+        let long = "w".repeat(140);
+        let size = title_size(&long);
+        assert!(size < 17.0 && 0.62 * size * 140.0 <= WIDTH - 40.0, "{size}");
     }
 }

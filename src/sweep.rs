@@ -477,17 +477,42 @@ fn lines(rows: &[SweepRow], y: impl Fn(&SweepRow) -> f64) -> Chart {
     }
 }
 
-/// The CPU model and core count, to name the machine next to timings.
+/// The CPU model, its family and model numbers, its widest vector instructions, and the core
+/// count, to name the machine next to timings: a cloud VM reports "AMD EPYC" for CPUs of
+/// different generations (stop 49 found its figures taken on a Zen 3 without AVX-512 where
+/// earlier stops had one with it, and the SIMD solver half as fast).
 pub fn machine_name() -> String {
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let model = std::fs::read_to_string("/proc/cpuinfo")
-        .ok()
-        .and_then(|info| {
-            info.lines()
-                .find(|l| l.starts_with("model name"))
-                .and_then(|l| l.split(':').nth(1))
-                .map(|m| m.trim().to_string())
-        })
-        .unwrap_or_else(|| std::env::consts::ARCH.to_string());
-    format!("{model}, {cores} cores")
+    let info = std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default();
+    let field = |name: &str| {
+        info.lines()
+            .find(|l| l.split(':').next().is_some_and(|k| k.trim() == name))
+            .and_then(|l| l.split(':').nth(1))
+            .map(|v| v.trim().to_string())
+    };
+    let model = field("model name").unwrap_or_else(|| std::env::consts::ARCH.to_string());
+    let generation = match (field("cpu family"), field("model")) {
+        (Some(family), Some(number)) => format!("family {family} model {number}, "),
+        _ => String::new(),
+    };
+    format!(
+        "{model} ({generation}{}), {cores} cores",
+        vector_instructions()
+    )
+}
+
+/// The widest vector instruction set this CPU runs (x86-64), or the architecture.
+fn vector_instructions() -> &'static str {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("avx512f") {
+            return "AVX-512";
+        }
+        if std::arch::is_x86_feature_detected!("avx2") {
+            return "AVX2";
+        }
+        "SSE2"
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    std::env::consts::ARCH
 }
