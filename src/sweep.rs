@@ -479,8 +479,8 @@ fn lines(rows: &[SweepRow], y: impl Fn(&SweepRow) -> f64) -> Chart {
 
 /// The CPU model, its family and model numbers, its widest vector instructions, and the core
 /// count, to name the machine next to timings: a cloud VM reports "AMD EPYC" for CPUs of
-/// different generations (stop 49 found its figures taken on a Zen 3 without AVX-512 where
-/// earlier stops had one with it, and the SIMD solver half as fast).
+/// different generations (stop 49's figures came from a Zen 3 without AVX-512, earlier stops'
+/// from one with it, where the SIMD kernels ran 1.3-1.7x faster).
 pub fn machine_name() -> String {
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let info = std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default();
@@ -501,7 +501,7 @@ pub fn machine_name() -> String {
     )
 }
 
-/// The widest vector instruction set this CPU runs (x86-64), or the architecture.
+/// The widest vector instruction set this CPU runs (probed on x86-64 only).
 fn vector_instructions() -> &'static str {
     #[cfg(target_arch = "x86_64")]
     {
@@ -514,5 +514,5 @@ fn vector_instructions() -> &'static str {
         "SSE2"
     }
     #[cfg(not(target_arch = "x86_64"))]
-    std::env::consts::ARCH
+    "vector set not probed"
 }
