@@ -2,21 +2,13 @@
 //! over layouts 1-64 x both spines.
 
 use super::*;
-use rodlab::cli::load_scene;
-use rodlab::lab::Lab;
 use rodlab::sim;
 
 /// The drop at its `at_rest` variant on layout `seed` with one spine; returns the final lab and
 /// the run's report.
 fn drop_at_rest(seed: u64, spine: SpineKind) -> (Lab, sim::RunReport) {
-    let overrides = Overrides {
-        spine: Some(spine),
-        seed: Some(seed),
-        ..Default::default()
-    };
-    let scene = load_scene(SCENE.as_ref(), Some("at_rest"), &overrides).unwrap();
+    let (scene, mut lab) = drop_lab(Some("at_rest"), &spine_and_seed(spine, seed));
     assert!(scene.def.sleep && scene.def.joint_damping > 0.0);
-    let mut lab = scene.build().unwrap();
     let report = sim::run(&mut lab, scene.def.frames, &mut sim::NoObserver).unwrap();
     (lab, report)
 }

@@ -2,7 +2,6 @@
 //! substep's iteration, and the landings a survey of 256 keeps.
 
 use super::*;
-use rodlab::cli::load_scene;
 use rodlab::constraint::JointFlavour;
 use rodlab::lab::Lab;
 use rodlab::sim;
@@ -108,8 +107,7 @@ fn landing_overlap_with_sweeps(spine: SpineKind, extra_sweeps: Option<u32>) -> (
         frames: Some(150),
         ..Default::default()
     };
-    let scene = load_scene(SCENE.as_ref(), Some("redetect_sweeps"), &overrides).unwrap();
-    let mut lab = scene.build().unwrap();
+    let (_, mut lab) = drop_lab(Some("redetect_sweeps"), &overrides);
     let mut per_frame = Vec::new();
     let mut observer =
         |_: &Lab, m: &rodlab::metrics::FrameMetrics| per_frame.push(m.max_overlap_cm);
@@ -166,8 +164,7 @@ fn the_landing_whose_forearm_exploded_with_cheap_joints_holds_with_exact_ones() 
             contact_extra_sweeps,
             ..Default::default()
         };
-        let scene = load_scene(SCENE.as_ref(), Some("redetect_sweeps"), &overrides).unwrap();
-        let mut lab = scene.build().unwrap();
+        let (_, mut lab) = drop_lab(Some("redetect_sweeps"), &overrides);
         sim::run(&mut lab, 150, &mut sim::NoObserver).map(|r| r.max_overlap_cm)
     };
     // stop 46's variant: cheap joints, three sweeps (an explosion, printed, not asserted: one

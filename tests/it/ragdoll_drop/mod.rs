@@ -20,7 +20,9 @@ mod paper;
 mod profile;
 mod stacking;
 
+use rodlab::lab::Lab;
 use rodlab::ragdoll::SpineKind;
+use rodlab::scene::Scene;
 use rodlab::sim::Overrides;
 
 const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/ragdoll_drop.toml");
@@ -34,6 +36,23 @@ fn one_at_a_time() -> std::sync::MutexGuard<'static, ()> {
     ONE_AT_A_TIME
         .lock()
         .unwrap_or_else(|poisoned| poisoned.into_inner())
+}
+
+/// The drop at its `variant` (`None`: the paper's method) with `overrides`: the scene as
+/// loaded, and its lab built.
+fn drop_lab(variant: Option<&str>, overrides: &Overrides) -> (Scene, Lab) {
+    let scene = rodlab::cli::load_scene(SCENE.as_ref(), variant, overrides).unwrap();
+    let lab = scene.build().unwrap();
+    (scene, lab)
+}
+
+/// The overrides of one spine and layout seed.
+fn spine_and_seed(spine: SpineKind, seed: u64) -> Overrides {
+    Overrides {
+        spine: Some(spine),
+        seed: Some(seed),
+        ..Default::default()
+    }
 }
 
 fn mean(values: &[f32]) -> f32 {

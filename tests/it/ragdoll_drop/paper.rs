@@ -2,20 +2,12 @@
 //! contacts): the reference line.
 
 use super::*;
-use rodlab::cli::load_scene;
-use rodlab::lab::Lab;
 use rodlab::sim;
 
 /// Runs the drop with one spine and layout seed; returns the final lab, the total dislocation
 /// (cm) per frame and the lowest body centre (m).
 fn drop(spine: SpineKind, seed: u64) -> (Lab, Vec<f32>, f32) {
-    let overrides = Overrides {
-        spine: Some(spine),
-        seed: Some(seed),
-        ..Default::default()
-    };
-    let scene = load_scene(SCENE.as_ref(), None, &overrides).unwrap();
-    let mut lab = scene.build().unwrap();
+    let (scene, mut lab) = drop_lab(None, &spine_and_seed(spine, seed));
     assert_eq!(lab.ragdolls.len(), 30);
     let mut lowest = f32::INFINITY;
     let mut observer = |lab: &Lab, _: &rodlab::metrics::FrameMetrics| {

@@ -2,18 +2,11 @@
 //! at 90%).
 
 use super::*;
-use rodlab::cli::load_scene;
 use rodlab::sim;
 
 /// The drop at one of its variants, spine and layout seed: the total dislocation (cm) per frame.
 fn dislocation_per_frame(variant: Option<&str>, spine: SpineKind, seed: u64) -> Vec<f32> {
-    let overrides = Overrides {
-        spine: Some(spine),
-        seed: Some(seed),
-        ..Default::default()
-    };
-    let scene = load_scene(SCENE.as_ref(), variant, &overrides).unwrap();
-    let mut lab = scene.build().unwrap();
+    let (scene, mut lab) = drop_lab(variant, &spine_and_seed(spine, seed));
     let report = sim::run(&mut lab, scene.def.frames, &mut sim::NoObserver).unwrap();
     report.total_dislocation_cm
 }
