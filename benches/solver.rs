@@ -1,5 +1,5 @@
-//! Criterion benchmarks: ns per constraint solve, scalar and SIMD (W = 4 and W = 8, from lanes
-//! packed as the SIMD solver packs them once a substep), for ball-and-socket joints (cheap,
+//! Criterion benchmarks: ns per constraint solve, scalar and SIMD (W = 4, 8 and 16 where the CPU
+//! runs them, from lanes packed as the SIMD solver packs them once a substep), for ball-and-socket joints (cheap,
 //! exact, exact with limits), the rod (bend, twist, curve and length in one function) and
 //! contact points, 64 independent constraints a batch; then one passive-bending step per
 //! spine. After criterion's report, a summary table with the cost of packing and the rod/cheap
@@ -15,7 +15,7 @@ use rodlab::constraint::{
 };
 use rodlab::contact::lanes::ContactLanes;
 use rodlab::contact::{ContactPoint, Contacts, Softness, Stacking};
-use rodlab::lanes::Lane;
+use rodlab::lanes::{F32x16, F32x4, F32x8, Lane, LaneWidth, LaneWork};
 use rodlab::math::{Quat, Vec3};
 use rodlab::ragdoll::SpineKind;
 use rodlab::scene::Scene;
@@ -24,7 +24,6 @@ use rodlab::sim::{self, NoObserver, Overrides};
 use rodlab::solver::body::{pair_mut, SharedBodies, SolverBody};
 use rodlab::solver::Row;
 use std::time::Instant;
-use wide::{f32x16, f32x4, f32x8};
 
 const COUNT: usize = 64;
 
@@ -189,10 +188,19 @@ impl<T: Clone, L4, L8, L16> Packed<T, L4, L8, L16> {
         }
     }
 
-    /// Packs the rows into the existing 8-lane batches again (no allocation in the timing).
-    fn repack8(&mut self, pack: fn(&[T]) -> L8) {
-        for (lanes, rows) in self.w8.iter_mut().zip(self.rows.chunks_exact(8)) {
-            *lanes = pack(rows);
+    /// Packs the rows into the existing batches of the widest lanes this CPU runs again (no
+    /// allocation in the timing).
+    fn repack(&mut self, pack: (fn(&[T]) -> L4, fn(&[T]) -> L8, fn(&[T]) -> L16))
+    where
+        T: Sync,
+        L4: Send,
+        L8: Send,
+        L16: Send,
+    {
+        match LaneWidth::detect() {
+            LaneWidth::W4 => F32x4::dispatch(Repack(&mut self.w4, &self.rows, pack.0)),
+            LaneWidth::W8 => F32x8::dispatch(Repack(&mut self.w8, &self.rows, pack.1)),
+            LaneWidth::W16 => F32x16::dispatch(Repack(&mut self.w16, &self.rows, pack.2)),
         }
     }
 
@@ -213,9 +221,20 @@ impl<T: Clone, L4, L8, L16> Packed<T, L4, L8, L16> {
                     unsafe { shared.with_pair(a, b, |a, b| row.solve(a, b)) };
                 }
             }
-            Width::W4 => self.w4.iter_mut().for_each(|l| l.solve(shared)),
-            Width::W8 => self.w8.iter_mut().for_each(|l| l.solve(shared)),
-            Width::W16 => self.w16.iter_mut().for_each(|l| l.solve(shared)),
+            Width::W4 => F32x4::dispatch(SolveBatches(&mut self.w4, shared)),
+            Width::W8 => F32x8::dispatch(SolveBatches(&mut self.w8, shared)),
+            Width::W16 => F32x16::dispatch(SolveBatches(&mut self.w16, shared)),
+        }
+    }
+}
+
+impl Width {
+    /// Whether this CPU runs the width (the scalar solver always).
+    fn runs(self) -> bool {
+        match self {
+            Width::Scalar | Width::W4 => true,
+            Width::W8 => LaneWidth::W8.is_available(),
+            Width::W16 => LaneWidth::W16.is_available(),
         }
     }
 }
@@ -226,27 +245,56 @@ trait Lanes {
 }
 
 impl<L: Lane> Lanes for JointLanes<L> {
+    #[inline(always)]
     fn solve(&mut self, bodies: SharedBodies) {
         JointLanes::solve(self, bodies)
     }
 }
 
 impl<L: Lane> Lanes for RodLanes<L> {
+    #[inline(always)]
     fn solve(&mut self, bodies: SharedBodies) {
         RodLanes::solve(self, bodies)
     }
 }
 
 impl<L: Lane> Lanes for ContactLanes<L> {
+    #[inline(always)]
     fn solve(&mut self, bodies: SharedBodies) {
         ContactLanes::solve(self, bodies)
     }
 }
 
-type Joints = Packed<JointRow, JointLanes<f32x4>, JointLanes<f32x8>, JointLanes<f32x16>>;
-type Rods = Packed<RodRow, RodLanes<f32x4>, RodLanes<f32x8>, RodLanes<f32x16>>;
+/// One solve of every batch, in the function compiled for the lane type's instructions (as
+/// the solver runs its colours: `rodlab::lanes::Lane::dispatch`).
+struct SolveBatches<'a, B>(&'a mut [B], SharedBodies);
+
+impl<L: Lane, B: Lanes> LaneWork<L> for SolveBatches<'_, B> {
+    type Output = ();
+    #[inline(always)]
+    fn run(self) {
+        self.0.iter_mut().for_each(|b| b.solve(self.1));
+    }
+}
+
+/// Every batch packed again from its rows, as [`SolveBatches`] runs.
+struct Repack<'a, T, B>(&'a mut [B], &'a [T], fn(&[T]) -> B);
+
+impl<L: Lane, T, B> LaneWork<L> for Repack<'_, T, B> {
+    type Output = ();
+    #[inline(always)]
+    fn run(self) {
+        let width = COUNT / self.0.len();
+        for (lanes, rows) in self.0.iter_mut().zip(self.1.chunks(width)) {
+            *lanes = (self.2)(rows);
+        }
+    }
+}
+
+type Joints = Packed<JointRow, JointLanes<F32x4>, JointLanes<F32x8>, JointLanes<F32x16>>;
+type Rods = Packed<RodRow, RodLanes<F32x4>, RodLanes<F32x8>, RodLanes<F32x16>>;
 type ContactPoints =
-    Packed<ContactPoint, ContactLanes<f32x4>, ContactLanes<f32x8>, ContactLanes<f32x16>>;
+    Packed<ContactPoint, ContactLanes<F32x4>, ContactLanes<F32x8>, ContactLanes<F32x16>>;
 
 /// One benchmarked batch: `COUNT` independent constraints of one kind and their bodies.
 #[derive(Clone)]
@@ -296,12 +344,15 @@ impl Batch {
         }
     }
 
-    /// Packs every row into 8 lanes again (what the SIMD solver does once a substep).
-    fn pack8(&mut self) {
+    /// Packs every row into the widest lanes this CPU runs again (what the SIMD solver does
+    /// once a substep).
+    fn pack(&mut self) {
         match self {
-            Batch::Joints(p) => p.repack8(JointLanes::pack),
-            Batch::Rods(p) => p.repack8(RodLanes::pack),
-            Batch::Contacts(p) => p.repack8(ContactLanes::pack),
+            Batch::Joints(p) => p.repack((JointLanes::pack, JointLanes::pack, JointLanes::pack)),
+            Batch::Rods(p) => p.repack((RodLanes::pack, RodLanes::pack, RodLanes::pack)),
+            Batch::Contacts(p) => {
+                p.repack((ContactLanes::pack, ContactLanes::pack, ContactLanes::pack))
+            }
         }
     }
 }
@@ -323,7 +374,7 @@ fn constraint_solves(c: &mut Criterion) {
     group.throughput(Throughput::Elements(COUNT as u64));
     for (label, case) in cases() {
         let batch = Batch::new(case);
-        for (solver, width) in WIDTHS {
+        for (solver, width) in WIDTHS.into_iter().filter(|(_, w)| w.runs()) {
             group.bench_function(format!("{label}/{solver}"), |b| {
                 b.iter_batched_ref(
                     || batch.clone(),
@@ -346,15 +397,20 @@ fn ns_per_solve(mut round: impl FnMut() -> std::time::Duration) -> f64 {
 /// lanes, as every iteration of the SIMD solver runs it), what packing costs once a substep,
 /// and rod/cheap.
 fn summary() {
+    let widest = LaneWidth::detect().lanes();
     println!(
-        "\nns per constraint (fastest of 2000 rounds of {COUNT}), machine: {}; this build's \
-         SIMD solver runs {} lanes",
+        "\nns per constraint (fastest of 2000 rounds of {COUNT}), machine: {}; the SIMD solver \
+         runs {widest} lanes here (a width this CPU does not run: NaN)",
         rodlab::sweep::machine_name(),
-        rodlab::solver::SIMD_WIDTH
     );
     println!(
         "{:<20} {:>8} {:>8} {:>8} {:>8} {:>8}",
-        "kind", "scalar", "simd4", "simd8", "simd16", "pack8"
+        "kind",
+        "scalar",
+        "simd4",
+        "simd8",
+        "simd16",
+        format!("pack{widest}")
     );
     let mut table = Vec::new();
     for (label, case) in cases() {
@@ -371,9 +427,12 @@ fn summary() {
         };
         let mut row: Vec<f64> = WIDTHS
             .iter()
-            .map(|&(_, w)| timed(&|b| b.solve(w)))
+            .map(|&(_, w)| match w.runs() {
+                true => timed(&|b| b.solve(w)),
+                false => f64::NAN,
+            })
             .collect();
-        row.push(timed(&|b| b.pack8()));
+        row.push(timed(&|b| b.pack()));
         println!(
             "{:<20} {:>8.1} {:>8.1} {:>8.1} {:>8.1} {:>8.1}",
             label, row[0], row[1], row[2], row[3], row[4]
@@ -397,7 +456,7 @@ fn summary() {
         })
         .collect();
     println!(
-        "simd speed-up over scalar (W=4/8/16): {}; pack8 is paid once a substep, the solve \
+        "simd speed-up over scalar (W=4/8/16): {}; packing is paid once a substep, the solve \
          every iteration\n",
         speedup.join(", ")
     );

@@ -41,7 +41,9 @@
 #![deny(missing_docs)]
 
 pub mod body;
+#[cfg(feature = "record")]
 pub mod chart;
+#[cfg(feature = "record")]
 pub mod cli;
 pub mod constraint;
 pub mod contact;
@@ -55,6 +57,7 @@ pub mod metrics;
 #[cfg(feature = "rapier")]
 pub mod peer;
 pub mod ragdoll;
+#[cfg(feature = "record")]
 pub mod record;
 pub mod scene;
 pub mod shape;
@@ -65,6 +68,8 @@ pub mod sleep;
 pub mod solver;
 pub mod solver_body;
 pub mod stress;
+#[cfg(feature = "record")]
 pub mod sweep;
+#[cfg(feature = "record")]
 pub mod tune;
 pub mod world;

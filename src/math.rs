@@ -3,6 +3,47 @@
 
 pub use glam::{Mat3, Quat, Vec3};
 
+// Transcendental functions from one implementation, the `libm` crate (a Rust port of musl's,
+// after Sun's fdlibm), as glam's are with its `libm` feature: the C library's differ between
+// platforms and versions, and glibc picks a variant by the CPU it runs on, so results would
+// depend on the machine. Square roots are exact everywhere and need none of this.
+
+/// `atan2(y, x)` (rad).
+#[inline]
+pub fn atan2(y: f32, x: f32) -> f32 {
+    libm::atan2f(y, x)
+}
+
+/// Sine (rad).
+#[inline]
+pub fn sin(x: f32) -> f32 {
+    libm::sinf(x)
+}
+
+/// Cosine (rad).
+#[inline]
+pub fn cos(x: f32) -> f32 {
+    libm::cosf(x)
+}
+
+/// Tangent (rad).
+#[inline]
+pub fn tan(x: f32) -> f32 {
+    libm::tanf(x)
+}
+
+/// `e^x`.
+#[inline]
+pub fn exp(x: f32) -> f32 {
+    libm::expf(x)
+}
+
+/// `x^y`.
+#[inline]
+pub fn powf(x: f32, y: f32) -> f32 {
+    libm::powf(x, y)
+}
+
 /// A rigid transform: rotation then translation.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Iso {
@@ -73,7 +114,7 @@ pub fn rotation_vector(q: Quat) -> Vec3 {
     if s < 1e-7 {
         return 2.0 * xyz; // angle ~ 2 s, axis xyz/s
     }
-    let angle = 2.0 * s.atan2(q.w);
+    let angle = 2.0 * atan2(s, q.w);
     xyz * (angle / s)
 }
 
@@ -95,7 +136,7 @@ pub fn rotate_by_small(q: Quat, theta: Vec3) -> Quat {
 /// decomposition `q = swing * twist`, wrapped to [-pi, pi].
 pub fn twist_angle(q: Quat, axis: Vec3) -> f32 {
     let projection = Vec3::new(q.x, q.y, q.z).dot(axis);
-    let angle = 2.0 * projection.atan2(q.w);
+    let angle = 2.0 * atan2(projection, q.w);
     wrap_angle(angle)
 }
 
@@ -113,7 +154,7 @@ pub fn wrap_angle(a: f32) -> f32 {
 
 /// Angle between two unit vectors, robust near 0 and pi (atan2 of |a x b| and a.b).
 pub fn angle_between(a: Vec3, b: Vec3) -> f32 {
-    a.cross(b).length().atan2(a.dot(b))
+    atan2(a.cross(b).length(), a.dot(b))
 }
 
 /// A unit vector perpendicular to the unit vector `v`.

@@ -94,6 +94,14 @@ impl World {
         &mut self.bodies[id.index()]
     }
 
+    /// Runs the SIMD solver's and detection's lanes `width` at a time (a width this CPU runs:
+    /// [`crate::lanes::LaneWidth::is_available`]); every width gives the same results, to the
+    /// bit. The default is the widest the CPU runs ([`crate::lanes::LaneWidth::detect`]).
+    pub fn set_lane_width(&mut self, width: crate::lanes::LaneWidth) {
+        self.solver.set_lane_width(width);
+        self.contacts.set_lane_width(width);
+    }
+
     /// A hash (FNV-1a, 64 bits) of every body's pose, velocities and sleep state, bit for bit:
     /// two runs that agree exactly give the same hash.
     pub fn state_hash(&self) -> u64 {

@@ -71,14 +71,7 @@ pub fn load_scene(
     variant: Option<&str>,
     overrides: &Overrides,
 ) -> anyhow::Result<Scene> {
-    let mut scene = Scene::load(path)?;
-    if let Some(name) = variant {
-        scene = scene.variant(name)?;
-    }
-    overrides.apply(&mut scene.def);
-    (overrides.check_applied(&scene.def))
-        .map_err(|m| anyhow::anyhow!("{}: {m}", path.display()))?;
-    Ok(scene)
+    Scene::load_with(path, variant, overrides)
 }
 
 /// Runs `scene` into a recording; the recording stays readable if the run fails.

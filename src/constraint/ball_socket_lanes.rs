@@ -27,6 +27,7 @@ use std::f32::consts::{PI, TAU};
 
 /// Solves `L::W` rows sharing no movable body at once: packed, then one projection (the solver
 /// packs once a frame and solves the packed batch every iteration).
+#[inline(always)]
 pub fn solve_lanes<L: Lane>(rows: &mut [JointRow], bodies: SharedBodies) {
     JointLanes::<L>::pack(rows).solve(bodies);
 }
@@ -82,20 +83,24 @@ enum PointFlavours<L> {
 impl<L: Lane> JointLanes<L> {
     /// One to `L::W` rows sharing no movable body (lanes past the last repeat the first:
     /// [`padded`]).
+    #[inline(always)]
     pub fn pack(rows: &[JointRow]) -> Self {
         assert!((1..=L::W).contains(&rows.len()), "a batch is one to W rows");
         let row = |i: usize| padded(rows, i);
         let (index_a, index_b) = body_indices::<L, _>(rows, |r| (r.body_a, r.body_b));
-        let spring = rows
-            .iter()
-            .any(|r| r.spring.is_some())
-            .then(|| SpringLanes {
+        // (lanes are made outside closures, whose bodies would compile outside the function
+        // `Lane::dispatch` compiles for the lane type's instructions)
+        let spring = match rows.iter().any(|r| r.spring.is_some()) {
+            true => Some(SpringLanes {
                 relaxation: L::from_fn(|i| row(i).spring.map_or(0.0, |s| s.relaxation)),
                 rest: Q::from_fn(|i| row(i).spring.map_or(Quat::IDENTITY, |s| s.rest)),
-            });
-        let limit = rows.iter().any(|r| r.limit.is_some()).then(|| {
-            let limit = |i: usize| row(i).limit;
-            LimitLanes {
+            }),
+            false => None,
+        };
+        let limit = |i: usize| row(i).limit;
+        let limit = match rows.iter().any(|r| r.limit.is_some()) {
+            false => None,
+            true => Some(LimitLanes {
                 limited: (rows.iter().enumerate())
                     .filter(|(_, r)| r.limit.is_some())
                     .fold(0, |bits, (i, _)| bits | 1 << i),
@@ -111,12 +116,12 @@ impl<L: Lane> JointLanes<L> {
                 }),
                 frame_a: Q::from_fn(|i| row(i).frame_a),
                 frame_b: Q::from_fn(|i| row(i).frame_b),
-                hinge_block: rows
-                    .iter()
-                    .any(hinge_block)
-                    .then(|| L::from_fn(|i| hinge_block(row(i)) as u32 as f32).gt(L::zero())),
-            }
-        });
+                hinge_block: match rows.iter().any(hinge_block) {
+                    true => Some(L::from_fn(|i| hinge_block(row(i)) as u32 as f32).gt(L::zero())),
+                    false => None,
+                },
+            }),
+        };
         let any_cheap = rows.iter().any(|r| r.flavour == JointFlavour::Cheap);
         let any_exact = rows.iter().any(|r| r.flavour == JointFlavour::Exact);
         let point = match (any_cheap, any_exact) {
@@ -148,16 +153,18 @@ impl<L: Lane> JointLanes<L> {
     /// The substep's constants from the bodies' poses at its start: the limits' starting twist,
     /// [`JointRow::begin_substep`] lane by lane (the same arithmetic, so the same bits as
     /// packing the rows each substep), so a batch packed once a frame serves all its substeps.
+    #[inline(always)]
     pub fn begin_substep(&mut self, bodies: &[Body]) {
         let Some(limit) = &mut self.limit else {
             return;
         };
         // the scalar `AngularLimit::start_twist` in lanes, to the bit (`exact`); padded lanes
         // repeat the first row, rows without a limit keep 0
-        let orientation =
-            |index: &[u32; MAX_LANES]| Q::<L>::from_fn(|i| bodies[index[i] as usize].orientation);
-        let frame_a = exact::quat_mul(orientation(&self.index_a), limit.frame_a);
-        let frame_b = exact::quat_mul(orientation(&self.index_b), limit.frame_b);
+        let (index_a, index_b) = (&self.index_a, &self.index_b);
+        let orientation_a = Q::<L>::from_fn(|i| bodies[index_a[i] as usize].orientation);
+        let orientation_b = Q::<L>::from_fn(|i| bodies[index_b[i] as usize].orientation);
+        let frame_a = exact::quat_mul(orientation_a, limit.frame_a);
+        let frame_b = exact::quat_mul(orientation_b, limit.frame_b);
         let twist = exact::start_twist(frame_a, frame_b);
         let limited = L::from_fn(|i| {
             let row = if i < self.rows as usize { i } else { 0 };
@@ -167,6 +174,7 @@ impl<L: Lane> JointLanes<L> {
     }
 
     /// One projection of every lane's joint: gather, spring, limits, point, scatter.
+    #[inline(always)]
     pub fn solve(&self, bodies: SharedBodies) {
         let (index_a, index_b) = (&self.index_a[..L::W], &self.index_b[..L::W]);
         // SAFETY: the rows of a batch share no movable body, and no other thread touches them

@@ -27,7 +27,7 @@
 use super::parts::relative_rotation;
 use super::Constraint;
 use crate::body::Body;
-use crate::math::{rotation_vector, Quat};
+use crate::math::{powf, rotation_vector, Quat};
 use crate::solver_body::SolverBody;
 
 /// The dashpot's coefficient and the substep it is solved over.
@@ -86,7 +86,7 @@ impl DamperRow {
             damping.h * damping.coefficient * (inverse_inertia(a) + inverse_inertia(b));
         if per_substep > 0.0 {
             let per_iteration = 1.0 / damping.iterations.max(1) as f32;
-            self.relaxation = 1.0 - (1.0 - per_substep.min(1.0)).powf(per_iteration);
+            self.relaxation = 1.0 - powf(1.0 - per_substep.min(1.0), per_iteration);
         }
     }
 

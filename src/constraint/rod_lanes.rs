@@ -63,6 +63,7 @@ pub fn solve_scalar(rows: &mut [RodRow], bodies: SharedBodies) {
 
 /// Exactly `L::W` rows, all in the default modes, sharing no movable body: packed, then
 /// solved once (the solver packs once a substep and solves the packed batch every iteration).
+#[inline(always)]
 pub fn solve_lanes<L: Lane>(rows: &mut [RodRow], bodies: SharedBodies) {
     RodLanes::<L>::pack(rows).solve(bodies);
 }
@@ -91,6 +92,7 @@ pub struct RodLanes<L> {
 impl<L: Lane> RodLanes<L> {
     /// One to `L::W` rows, all in the default modes ([`is_default_modes`]), sharing no movable
     /// body (lanes past the last repeat the first: [`padded`]).
+    #[inline(always)]
     pub fn pack(rows: &[RodRow]) -> Self {
         assert!((1..=L::W).contains(&rows.len()), "a batch is one to W rows");
         let row = |i: usize| padded(rows, i);
@@ -104,17 +106,19 @@ impl<L: Lane> RodLanes<L> {
             rest_length: L::from_fn(|i| row(i).rest_length),
             alpha_bend: L::from_fn(|i| row(i).alpha_bend),
             alpha_twist: L::from_fn(|i| row(i).alpha_twist),
-            block: rows
-                .iter()
-                .any(|r| r.bend_twist == BendTwist::Block)
-                .then(|| {
+            // (no closure around lane code: see `solve_rod_lanes`)
+            block: match rows.iter().any(|r| r.bend_twist == BendTwist::Block) {
+                true => {
                     let block = |i: usize| (row(i).bend_twist == BendTwist::Block) as u32 as f32;
-                    L::from_fn(block).gt(L::zero())
-                }),
+                    Some(L::from_fn(block).gt(L::zero()))
+                }
+                false => None,
+            },
         }
     }
 
     /// One projection of every lane's rod: gathered, [`solve_rod_lanes`], scattered back.
+    #[inline(always)]
     pub fn solve(&self, bodies: SharedBodies) {
         let (index_a, index_b) = (&self.index_a[..L::W], &self.index_b[..L::W]);
         // SAFETY: the rows of a batch share no movable body, and no other thread touches them
@@ -137,25 +141,31 @@ pub fn solve_rod_lanes<L: Lane>(row: &RodLanes<L>, a: &mut BodyLanes<L>, b: &mut
     let movable_b = b.inverse_mass.gt(zero);
 
     // Bend and twist: as one block on the lanes whose rod asks for it and where both act, one
-    // after the other on the rest (every lane of a batch without block rods)
-    let sequential = row
-        .block
-        .map(|block| bend_and_twist_as_block(row, a, b, block));
-    let (seq_a, seq_b) = match sequential {
-        None => (movable_a, movable_b),
-        Some(lanes) => (movable_a & lanes, movable_b & lanes),
+    // after the other on the rest (every lane of a batch without block rods). No closures
+    // around lane code here: a closure's body would compile outside the function
+    // `Lane::dispatch` compiles for the lane type's instructions.
+    let sequential = match row.block {
+        Some(block) => Some(bend_and_twist_as_block(row, a, b, block)),
+        None => None,
     };
-    if sequential.is_none_or(|lanes| lanes.any()) {
-        bend_then_twist(row, a, b, seq_a, seq_b);
+    match sequential {
+        None => bend_then_twist(row, a, b, movable_a, movable_b),
+        Some(lanes) if lanes.any() => {
+            bend_then_twist(row, a, b, movable_a & lanes, movable_b & lanes)
+        }
+        Some(_) => {}
     }
 
     // Hard curve (eq. 6), full gradient; the block lanes' length on the same frames
     let (ta, tb) = tangents(row, a, b);
     let curve = curve_projection(a.position, ta, b.position, tb);
-    let shared = row.block.map(|block| {
-        let length = length_part(row, (curve.axis, curve.distance), ta, tb);
-        (block, length)
-    });
+    let shared = match row.block {
+        Some(block) => Some((
+            block,
+            length_part(row, (curve.axis, curve.distance), ta, tb),
+        )),
+        None => None,
+    };
     // I^-1 theta once per body, for the effective mass and the turn
     let turn_a = a.inverse_inertia.mul_vec(curve.theta_a);
     let turn_b = b.inverse_inertia.mul_vec(curve.theta_b);
@@ -383,7 +393,7 @@ fn rotation_arc_given<L: Lane>(from: V3<L>, dot: L, c: V3<L>) -> Q<L> {
                 x: perpendicular.x,
                 y: perpendicular.y,
                 z: perpendicular.z,
-                w: L::splat((0.5 * std::f32::consts::PI).cos()),
+                w: L::splat(crate::math::cos(0.5 * std::f32::consts::PI)),
             };
             Q::select(opposite, half_turn, general)
         }
@@ -424,8 +434,11 @@ pub struct CurveLanes<L> {
 pub fn curve_projection<L: Lane>(pa: V3<L>, ta: V3<L>, pb: V3<L>, tb: V3<L>) -> CurveLanes<L> {
     let (o, distance) = (pb - pa).normalize_or(ta, 1e-12);
     let two = L::splat(2.0);
-    let reflect = |v: V3<L>| o.scale(two * v.dot(o)) - v;
-    let r = reflect(ta);
+    #[inline(always)]
+    fn reflect<L: Lane>(v: V3<L>, o: V3<L>) -> V3<L> {
+        o.scale(L::splat(2.0) * v.dot(o)) - v
+    }
+    let r = reflect(ta, o);
     let (n, sin) = tb.cross(r).normalize_or(tb.any_orthonormal(), 1e-12);
     let error = sin.atan2(tb.dot(r));
     let m = n.cross(r);
@@ -436,7 +449,7 @@ pub fn curve_projection<L: Lane>(pa: V3<L>, ta: V3<L>, pb: V3<L>, tb: V3<L>) -> 
     CurveLanes {
         error,
         g_o,
-        theta_a: reflect(n),
+        theta_a: reflect(n, o),
         theta_b: -n,
         axis: o,
         distance,

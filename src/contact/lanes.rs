@@ -11,8 +11,8 @@
 //! The substep's start, the warm start and the velocity pass on the same lanes:
 //! `lanes_substep.rs`.
 //!
-//! An inactive lane applies a zero impulse, which leaves its bodies as they were (the
-//! orientation is rebuilt from the same predicted orientation and correction).
+//! A lane applies its impulses only where the scalar code does (masks): the others keep their
+//! bodies bit for bit, so no lane's result depends on the other rows of its batch.
 
 use super::ContactPoint;
 use crate::lanes::{body_indices, not, padded, BodyLanes, Lane, MAX_LANES, V3};
@@ -20,6 +20,7 @@ use crate::solver_body::SharedBodies;
 
 /// Solves `L::W` points at once: packed, solved once, unpacked (the solver packs once a frame
 /// and solves the packed batch every iteration).
+#[inline(always)]
 pub fn solve_lanes<L: Lane>(rows: &mut [ContactPoint], bodies: SharedBodies) {
     let mut lanes = ContactLanes::<L>::pack(rows);
     lanes.solve(bodies);
@@ -79,6 +80,7 @@ fn mask<L: Lane>(mut flag: impl FnMut(usize) -> bool) -> L {
 impl<L: Lane> ContactLanes<L> {
     /// One to `L::W` points sharing no movable body (lanes past the last repeat the first:
     /// [`padded`]).
+    #[inline(always)]
     pub fn pack(rows: &[ContactPoint]) -> Self {
         assert!((1..=L::W).contains(&rows.len()), "a batch is one to W rows");
         let row = |i: usize| padded(rows, i);
@@ -118,6 +120,7 @@ impl<L: Lane> ContactLanes<L> {
 
     /// Hands the points back their state: anchors, impulses, flags and the substep's constants
     /// (the batch's own: repeated lanes are dropped).
+    #[inline(always)]
     pub fn unpack(&self, rows: &mut [ContactPoint]) {
         for (i, p) in rows.iter_mut().enumerate().take(L::W) {
             p.anchor_a = self.anchor_a.lane(i);
@@ -137,6 +140,7 @@ impl<L: Lane> ContactLanes<L> {
     }
 
     /// One iteration of the batch's points: [`ContactPoint::solve`] per lane.
+    #[inline(always)]
     pub fn solve(&mut self, bodies: SharedBodies) {
         let (index_a, index_b) = (&self.index_a[..L::W], &self.index_b[..L::W]);
         // SAFETY: the rows of a batch share no movable body (graph colouring).
@@ -178,8 +182,8 @@ impl<L: Lane> ContactLanes<L> {
         let lambda = total - normal_impulse;
         let normal_impulse = total;
         self.normal_impulse = normal_impulse;
-        a.push_along(n, turn_a, -(lambda * sa));
-        b.push_along(n, turn_b, lambda * sb);
+        a.push_along_where(active, n, turn_a, -(lambda * sa));
+        b.push_along_where(active, n, turn_b, lambda * sb);
 
         // 2. friction, where the point pushes
         let pushing = normal_impulse.gt(zero);
@@ -204,8 +208,9 @@ impl<L: Lane> ContactLanes<L> {
                 .min(needed);
             let applied = active.select(within.select(needed, sliding), zero);
             self.sticking = self.sticking & not(active & limit.lt(friction_impulse + needed));
-            a.push_along(t, turn_a, applied * sa);
-            b.push_along(t, turn_b, -(applied * sb));
+            let applying = applied.gt(zero);
+            a.push_along_where(applying, t, turn_a, applied * sa);
+            b.push_along_where(applying, t, turn_b, -(applied * sb));
             self.friction_impulse = friction_impulse + applied.max(zero);
         }
 

@@ -16,6 +16,7 @@ impl<L: Lane> ContactLanes<L> {
     /// allowance and soft contacts' starting separation, stacking's mass scales, fresh anchors
     /// for points that slid or have not touched yet (from the frame's second substep on), and
     /// the accumulated impulses reset (the last substep's normal impulse kept to warm-start).
+    #[inline(always)]
     pub fn begin_substep(&mut self, bodies: &[Body], start: &SubstepStart) {
         let zero = L::zero();
         let one = L::splat(1.0);
@@ -77,6 +78,7 @@ impl<L: Lane> ContactLanes<L> {
     /// [`Contacts::warm_start`](super::Contacts::warm_start) per lane: `fraction` of a resting
     /// point's last normal impulse, applied to the preview poses and made the substep's
     /// accumulated impulse.
+    #[inline(always)]
     pub fn warm_start(&mut self, bodies: SharedBodies, fraction: f32, impact_speed: f32) {
         let zero = L::zero();
         let resting = not(self.approach_speed.lt(L::splat(-impact_speed)));
@@ -94,8 +96,9 @@ impl<L: Lane> ContactLanes<L> {
             )
         };
         let impulse = self.normal.scale(active.select(self.warm_impulse, zero));
-        a.apply_positional_impulse(impulse.scale(-self.mass_scale_a), self.arm_a);
-        b.apply_positional_impulse(impulse.scale(self.mass_scale_b), self.arm_b);
+        let (scale_a, scale_b) = (self.mass_scale_a, self.mass_scale_b);
+        a.apply_positional_impulse_where(active, impulse.scale(-scale_a), self.arm_a);
+        b.apply_positional_impulse_where(active, impulse.scale(scale_b), self.arm_b);
         self.normal_impulse = active.select(self.warm_impulse, self.normal_impulse);
         // SAFETY: as for the gather.
         unsafe {
@@ -114,6 +117,7 @@ impl<L: Lane> ContactLanes<L> {
     /// # Safety
     /// No other thread may access the batch's awake dynamic bodies meanwhile, nor write its
     /// others.
+    #[inline(always)]
     pub unsafe fn velocity_pass(&self, bodies: SharedSlice<Body>, threshold: f32) {
         let zero = L::zero();
         let pushing = self.normal_impulse.gt(zero);
@@ -223,7 +227,7 @@ mod tests {
             scalar
                 .iter_mut()
                 .for_each(|p| p.begin_substep(&bodies, &start(first)));
-            let mut lanes = ContactLanes::<wide::f32x16>::pack(&points);
+            let mut lanes = ContactLanes::<crate::lanes::portable::Portable<16>>::pack(&points);
             lanes.begin_substep(&bodies, &start(first));
             let mut unpacked = points.clone();
             lanes.unpack(&mut unpacked);
@@ -287,7 +291,7 @@ mod tests {
             .for_each(|p| unsafe { p.velocity_pass(shared, 0.3) });
         // the lanes
         let mut lanes_hot: Vec<SolverBody> = bodies.iter().map(SolverBody::from_body).collect();
-        let mut lanes = ContactLanes::<wide::f32x16>::pack(&begun);
+        let mut lanes = ContactLanes::<crate::lanes::portable::Portable<16>>::pack(&begun);
         lanes.warm_start(SharedBodies::new(&mut lanes_hot), 0.5, 10.0);
         let mut lanes_bodies = bodies.clone();
         // SAFETY: one thread

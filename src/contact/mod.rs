@@ -238,6 +238,12 @@ impl Contacts {
             .detect(&mut self.points, bodies, constraints, dt, margin);
     }
 
+    /// Runs detection's lanes `width` at a time (a width this CPU runs); the points found are
+    /// the same at every width.
+    pub fn set_lane_width(&mut self, width: crate::lanes::LaneWidth) {
+        self.detection.set_lane_width(width);
+    }
+
     /// How many candidate pairs the last detection skipped as proven out of reach (their
     /// shapes' distance bound, carried from step to step: [`broadphase::gaps`]).
     pub fn pairs_skipped(&self) -> usize {

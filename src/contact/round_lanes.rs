@@ -13,9 +13,10 @@
 //! [`narrowphase::capsule_gap`]: super::narrowphase::capsule_gap
 
 use super::collider::Collider;
-use crate::lanes::{not, padded, Lane, Wide, V3};
+use crate::lanes::{not, padded, Lane, LaneWidth, LaneWork, V3};
 use crate::math::Vec3;
 use crate::shape::Shape;
+use crate::with_lane_type;
 
 /// What the lanes found for one sphere or capsule pair.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -93,11 +94,34 @@ pub fn round_radius(shape: &Shape) -> Option<f32> {
     }
 }
 
-/// Tests `pairs` (both bodies spheres or capsules), appending one result each to `out`.
-pub fn test_pairs(colliders: &[Collider], pairs: &[RoundPair], out: &mut Vec<RoundResult>) {
-    for batch in pairs.chunks(Wide::W) {
-        test_batch::<Wide>(colliders, batch, out);
+/// Tests `pairs` (both bodies spheres or capsules), `width` lanes at a time, appending one
+/// result each to `out`.
+pub fn test_pairs(
+    width: LaneWidth,
+    colliders: &[Collider],
+    pairs: &[RoundPair],
+    out: &mut Vec<RoundResult>,
+) {
+    struct Test<'a> {
+        colliders: &'a [Collider],
+        pairs: &'a [RoundPair],
+        out: &'a mut Vec<RoundResult>,
     }
+    impl<L: Lane> LaneWork<L> for Test<'_> {
+        type Output = ();
+        #[inline(always)]
+        fn run(self) {
+            for batch in self.pairs.chunks(L::W) {
+                test_batch::<L>(self.colliders, batch, self.out);
+            }
+        }
+    }
+    let work = Test {
+        colliders,
+        pairs,
+        out,
+    };
+    with_lane_type!(width, L => L::dispatch(work))
 }
 
 /// One batch of one to W pairs (lanes past the last repeat the first).
@@ -160,10 +184,12 @@ fn test_batch<L: Lane>(colliders: &[Collider], batch: &[RoundPair], out: &mut Ve
 #[inline(always)]
 fn closest_points<L: Lane>(p0: V3<L>, p1: V3<L>, q0: V3<L>, q1: V3<L>) -> (V3<L>, V3<L>) {
     let (zero, one, eps) = (L::zero(), L::splat(1.0), L::splat(1e-12));
-    let clamp = |x: L| {
+    #[inline(always)]
+    fn clamp<L: Lane>(x: L) -> L {
+        let (zero, one) = (L::zero(), L::splat(1.0));
         let x = x.lt(zero).select(zero, x);
         x.gt(one).select(one, x)
-    };
+    }
     let (d1, d2, r) = (p1 - p0, q1 - q0, p0 - q0);
     let (a, e, f) = (d1.length_squared(), d2.length_squared(), d2.dot(r));
     let (a_small, e_small) = (a.le(eps), e.le(eps));
@@ -223,9 +249,16 @@ mod tests {
 
     /// The lanes give the scalar narrow phase's features and gap bounds to the bit, on the
     /// narrow phase's random pairs ([`random_round_pair`]: any angle, nearly parallel and
-    /// parallel, distances around touching), in batches of every length up to W.
+    /// parallel, distances around touching), in batches of every length up to W, at every
+    /// width this CPU runs.
     #[test]
     fn the_lanes_give_the_scalar_points_and_gaps_to_the_bit() {
+        for width in LaneWidth::available() {
+            lanes_match_the_scalar_test(width);
+        }
+    }
+
+    fn lanes_match_the_scalar_test(width: LaneWidth) {
         let mut random = lcg(99);
         let mut colliders = Vec::new();
         let mut pairs = Vec::new();
@@ -240,12 +273,12 @@ mod tests {
         }
         let mut tests = Vec::new();
         let mut start = 0;
-        for length in (1..=Wide::W).cycle() {
+        for length in (1..=width.lanes()).cycle() {
             if start >= pairs.len() {
                 break;
             }
             let end = (start + length).min(pairs.len());
-            test_pairs(&colliders, &pairs[start..end], &mut tests);
+            test_pairs(width, &colliders, &pairs[start..end], &mut tests);
             start = end;
         }
         assert_eq!(tests.len(), pairs.len());

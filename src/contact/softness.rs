@@ -82,9 +82,7 @@ impl Stacking {
         if self.rate == 0.0 || height == 0.0 {
             return (1.0, 1.0);
         }
-        let lower = (-self.rate * height.abs())
-            .exp()
-            .max(self.max_ratio.recip());
+        let lower = crate::math::exp(-self.rate * height.abs()).max(self.max_ratio.recip());
         if height > 0.0 {
             (lower, 1.0) // b above a
         } else {

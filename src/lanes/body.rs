@@ -106,23 +106,9 @@ impl<L: Lane> BodyLanes<L> {
         }
     }
 
-    #[inline(always)]
-    fn rotate_preview(&mut self, dtheta: V3<L>) {
-        self.rotation_correction = self.rotation_correction + dtheta;
-        self.orientation = self.predicted.rotate_by_small(self.rotation_correction);
-    }
-
-    /// `SolverBody::apply_positional_impulse` per lane.
-    #[inline(always)]
-    pub fn apply_positional_impulse(&mut self, impulse: V3<L>, r: V3<L>) {
-        self.position = self.position + impulse.scale(self.inverse_mass);
-        let dtheta = self.inverse_inertia.mul_vec(r.cross(impulse));
-        self.rotate_preview(dtheta);
-    }
-
     /// The turn per unit positional impulse along `n` at offset `r`, `I^-1 (r x n)`, and the
     /// inverse effective mass `1/m + (r x n) . I^-1 (r x n)`: computed once, a point's effective
-    /// mass and its turn share it ([`BodyLanes::push_along`]).
+    /// mass and its turn share it ([`BodyLanes::push_along_where`]).
     #[inline(always)]
     pub fn response(&self, r: V3<L>, n: V3<L>) -> (V3<L>, L) {
         let rn = r.cross(n);
@@ -131,31 +117,23 @@ impl<L: Lane> BodyLanes<L> {
     }
 
     /// A positional impulse `amount n` at the offset whose [`BodyLanes::response`] along `n` is
-    /// `turn`: `apply_positional_impulse(amount n, r)` with the turn reused.
+    /// `turn`, on the lanes of `mask`; the other lanes keep their pose and correction bit for
+    /// bit (the scalar code applies nothing for them: a zero push would still renormalise the
+    /// orientation, and so depend on the other rows of its batch).
     #[inline(always)]
-    pub fn push_along(&mut self, n: V3<L>, turn: V3<L>, amount: L) {
-        self.position = self.position + n.scale(amount * self.inverse_mass);
-        self.rotate_preview(turn.scale(amount));
+    pub fn push_along_where(&mut self, mask: L, n: V3<L>, turn: V3<L>, amount: L) {
+        let moved = self.position + n.scale(amount * self.inverse_mass);
+        self.position = V3::select(mask, moved, self.position);
+        self.rotate_preview_where(mask, turn.scale(amount));
     }
 
-    /// `SolverBody::apply_linear_impulse` per lane.
+    /// `SolverBody::apply_positional_impulse` on the lanes of `mask` (the others untouched, as
+    /// in [`BodyLanes::push_along_where`]).
     #[inline(always)]
-    pub fn apply_linear_impulse(&mut self, impulse: V3<L>) {
-        self.position = self.position + impulse.scale(self.inverse_mass);
-    }
-
-    /// `SolverBody::apply_angular_impulse` per lane.
-    #[inline(always)]
-    pub fn apply_angular_impulse(&mut self, l: V3<L>) {
-        let dtheta = self.inverse_inertia.mul_vec(l);
-        self.rotate_preview(dtheta);
-    }
-
-    /// `SolverBody::apply_angular_impulse` on the lanes of `mask`; the other lanes keep their
-    /// orientation and correction bit for bit (the scalar code returns early for them).
-    #[inline(always)]
-    pub fn turn_where(&mut self, mask: L, l: V3<L>) {
-        let dtheta = self.inverse_inertia.mul_vec(l);
+    pub fn apply_positional_impulse_where(&mut self, mask: L, impulse: V3<L>, r: V3<L>) {
+        let moved = self.position + impulse.scale(self.inverse_mass);
+        self.position = V3::select(mask, moved, self.position);
+        let dtheta = self.inverse_inertia.mul_vec(r.cross(impulse));
         self.rotate_preview_where(mask, dtheta);
     }
 
@@ -166,13 +144,6 @@ impl<L: Lane> BodyLanes<L> {
         let orientation = self.predicted.rotate_by_small(correction);
         self.rotation_correction = V3::select(mask, correction, self.rotation_correction);
         self.orientation = Q::select(mask, orientation, self.orientation);
-    }
-
-    /// `SolverBody::positional_inverse_mass` per lane: `1/m + (r x n) . I^-1 (r x n)`.
-    #[inline(always)]
-    pub fn positional_inverse_mass(&self, r: V3<L>, n: V3<L>) -> L {
-        let rn = r.cross(n);
-        self.inverse_mass + rn.dot(self.inverse_inertia.mul_vec(rn))
     }
 
     /// `SolverBody::angular_inverse_mass` per lane: `g . I^-1 g`.

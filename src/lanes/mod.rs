@@ -1,41 +1,174 @@
 //! W-wide lanes for the batched solve (paper §7: "branch-free SIMD code, solving four
 //! constraints at once"; Box2D v3's `b2FloatW`, Rapier's SIMD joint groups).
 //!
-//! [`Lane`] is a float vector of `W` lanes (`wide::f32x4`, `f32x8` or `f32x16`); [`V3`], [`Q`] and
-//! [`SymM3`] are glam's `Vec3`, `Quat` and a symmetric 3x3 matrix with one lane per
-//! constraint. Branches become masks: compute both sides, [`Lane::select`] per lane.
-//! [`BodyLanes`] holds W solver bodies gathered from [`crate::solver_body::SolverBody`]s by index and is scattered
-//! back after the batch; the body methods mirror the scalar ones on [`crate::solver_body::SolverBody`].
-//! [`exact`] computes what must match the scalar code to the bit (the joints' starting twist).
+//! [`Lane`] is a float vector of `W` lanes; [`V3`], [`Q`] and [`SymM3`] are glam's `Vec3`,
+//! `Quat` and a symmetric 3x3 matrix with one lane per constraint. Branches become masks:
+//! compute both sides, [`Lane::select`] per lane. [`BodyLanes`] holds W solver bodies gathered
+//! from [`crate::solver_body::SolverBody`]s by index and is scattered back after the batch;
+//! the body methods mirror the scalar ones on [`crate::solver_body::SolverBody`].
+//!
+//! # The same bits at every width
+//! A lane computes the same operations in the same order whatever the width: each lane
+//! operation rounds as IEEE 754 says (no fused multiply-add, no reciprocal estimate), and the
+//! transcendental functions are [`maths`]' own, written with those operations. Rows of one
+//! colour share no movable body, so how they are cut into batches does not change what each
+//! computes: results are bit-identical at 4, 8 and 16 lanes (`tests/it/determinism.rs`).
+//!
+//! # The width, chosen at run time
+//! The build targets the x86-64 baseline, so one binary runs on any x86-64 CPU. The solver asks
+//! [`LaneWidth::detect`] for the widest lane type the CPU runs ([`F32x16`] with AVX-512F,
+//! [`F32x8`] with AVX2, else [`F32x4`]; the environment variable `RODLAB_LANES` may ask for
+//! fewer), and hands each hot loop to [`Lane::dispatch`], which runs it in a function compiled
+//! for that instruction set. Everything the loop calls on lanes is `#[inline(always)]`, so it
+//! compiles inside that function.
 
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Sub};
+use std::sync::OnceLock;
 
 mod body;
 pub mod exact;
+pub mod maths;
+pub mod portable;
 mod transpose;
 mod vector;
+#[cfg(target_arch = "x86_64")]
+mod x86;
 
 pub use body::{relative_rotation, relative_rotation_across, relative_rotation_block, BodyLanes};
 pub use transpose::Transpose4;
 pub use vector::{SymM3, Q, V3};
+#[cfg(target_arch = "x86_64")]
+pub use x86::{F32x16, F32x4, F32x8};
 
-/// The widest lane type's width (`wide::f32x16`); arrays of per-lane data are this long.
+/// The lane types off x86-64: plain arrays ([`portable`]), only the 4-wide one ever detected.
+#[cfg(not(target_arch = "x86_64"))]
+pub type F32x4 = portable::Portable<4>;
+/// See [`F32x4`].
+#[cfg(not(target_arch = "x86_64"))]
+pub type F32x8 = portable::Portable<8>;
+/// See [`F32x4`].
+#[cfg(not(target_arch = "x86_64"))]
+pub type F32x16 = portable::Portable<16>;
+
+/// The widest lane type's width; arrays of per-lane data are this long.
 pub const MAX_LANES: usize = 16;
 
-/// The solver's lane type, chosen by measurement (`benches/solver.rs`): `f32x16` where the build
-/// has AVX-512, `f32x8` where it has AVX, else `f32x4`. The kernels are bound by their chains of
-/// dependent operations more than by their instruction count, so more independent lanes in
-/// flight pay: from packed lanes, 16 lanes solve a rod in 0.64 of the time 8 lanes take on the
-/// development machine (AMD EPYC, AVX-512). Without AVX an `f32x8` is two 4-wide halves and
-/// measured no faster than 4 lanes.
-#[cfg(target_feature = "avx512f")]
-pub type Wide = wide::f32x16;
-/// The solver's lane type on a build with AVX but not AVX-512 (see the AVX-512 case above).
-#[cfg(all(target_feature = "avx", not(target_feature = "avx512f")))]
-pub type Wide = wide::f32x8;
-/// The solver's lane type on a build without AVX (see the AVX-512 case above).
-#[cfg(not(target_feature = "avx"))]
-pub type Wide = wide::f32x4;
+/// How many lanes one instruction covers: the lane type the SIMD solver runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum LaneWidth {
+    /// [`F32x4`]: SSE2, every x86-64 CPU.
+    W4,
+    /// [`F32x8`]: AVX2 (x86-64-v3).
+    W8,
+    /// [`F32x16`]: AVX-512F.
+    W16,
+}
+
+impl LaneWidth {
+    /// Every width, narrowest first.
+    pub const ALL: [LaneWidth; 3] = [LaneWidth::W4, LaneWidth::W8, LaneWidth::W16];
+
+    /// Lanes per instruction.
+    pub fn lanes(self) -> usize {
+        match self {
+            LaneWidth::W4 => 4,
+            LaneWidth::W8 => 8,
+            LaneWidth::W16 => 16,
+        }
+    }
+
+    /// The width of `lanes` lanes (4, 8 or 16).
+    pub fn from_lanes(lanes: usize) -> Option<Self> {
+        Self::ALL.into_iter().find(|w| w.lanes() == lanes)
+    }
+
+    /// Whether this CPU runs this width's instructions.
+    pub fn is_available(self) -> bool {
+        match self {
+            LaneWidth::W4 => true,
+            #[cfg(target_arch = "x86_64")]
+            LaneWidth::W8 => {
+                std::arch::is_x86_feature_detected!("avx2")
+                    && std::arch::is_x86_feature_detected!("fma")
+            }
+            #[cfg(target_arch = "x86_64")]
+            LaneWidth::W16 => std::arch::is_x86_feature_detected!("avx512f"),
+            #[cfg(not(target_arch = "x86_64"))]
+            _ => false,
+        }
+    }
+
+    /// The widths this CPU runs, narrowest first.
+    pub fn available() -> impl Iterator<Item = LaneWidth> {
+        Self::ALL.into_iter().filter(|w| w.is_available())
+    }
+
+    /// The widest width this CPU runs, or the one `RODLAB_LANES` (4, 8 or 16) asks for if the
+    /// CPU runs it (else a warning, once, and the widest). Read once per process.
+    pub fn detect() -> LaneWidth {
+        static DETECTED: OnceLock<LaneWidth> = OnceLock::new();
+        *DETECTED.get_or_init(|| {
+            let widest = Self::available().last().unwrap_or(LaneWidth::W4);
+            let Ok(asked) = std::env::var("RODLAB_LANES") else {
+                return widest;
+            };
+            let width = asked.trim().parse().ok().and_then(Self::from_lanes);
+            match width {
+                Some(width) if width.is_available() => width,
+                _ => {
+                    let lanes = widest.lanes();
+                    eprintln!(
+                        "RODLAB_LANES={asked}: this CPU runs 4{} lanes; using {lanes}",
+                        match widest {
+                            LaneWidth::W4 => "",
+                            LaneWidth::W8 => " or 8",
+                            LaneWidth::W16 => ", 8 or 16",
+                        }
+                    );
+                    widest
+                }
+            }
+        })
+    }
+}
+
+impl Default for LaneWidth {
+    /// [`LaneWidth::detect`]'s.
+    fn default() -> Self {
+        LaneWidth::detect()
+    }
+}
+
+/// Work run on one lane type in a function compiled for its instruction set
+/// ([`Lane::dispatch`]). Implementations mark `run` `#[inline(always)]`, so the work, and
+/// every `#[inline(always)]` lane operation in it, compiles inside that function.
+pub trait LaneWork<L: Lane> {
+    /// What the work returns.
+    type Output;
+    /// Does the work.
+    fn run(self) -> Self::Output;
+}
+
+/// Calls `$body` with the type name `$L` bound to `$width`'s lane type.
+#[macro_export]
+macro_rules! with_lane_type {
+    ($width:expr, $L:ident => $body:expr) => {
+        match $width {
+            $crate::lanes::LaneWidth::W4 => {
+                type $L = $crate::lanes::F32x4;
+                $body
+            }
+            $crate::lanes::LaneWidth::W8 => {
+                type $L = $crate::lanes::F32x8;
+                $body
+            }
+            $crate::lanes::LaneWidth::W16 => {
+                type $L = $crate::lanes::F32x16;
+                $body
+            }
+        }
+    };
+}
 
 /// Row `i` of a batch of one to `W` rows: lanes past the last row repeat the first. A repeated
 /// lane computes exactly what the first lane computes (same row, same bodies), so writing its
@@ -66,6 +199,7 @@ pub trait Lane:
     + Copy
     + Send
     + Sync
+    + std::fmt::Debug
     + Add<Output = Self>
     + Sub<Output = Self>
     + Mul<Output = Self>
@@ -80,19 +214,17 @@ pub trait Lane:
     fn splat(x: f32) -> Self;
     /// Lane `i` from `f(i)`.
     fn from_fn(f: impl FnMut(usize) -> f32) -> Self;
-    /// Lane `i`'s value.
-    fn lane(self, i: usize) -> f32;
+    /// The first `W` floats of `values` (which holds at least `W`).
+    fn load(values: &[f32]) -> Self;
     /// Lane `i`'s value, read in place (no copy of the vector).
     fn at(&self, i: usize) -> f32;
-    /// Per-lane square root.
+    /// Per-lane square root (correctly rounded).
     fn sqrt(self) -> Self;
-    /// `1 / sqrt(self)` from the hardware estimate (12 bits) and one Newton step (about 22).
-    fn recip_sqrt_newton(self) -> Self;
     /// Per-lane absolute value.
     fn abs(self) -> Self;
-    /// Per-lane maximum.
+    /// Per-lane maximum: `o` unless `self > o` (so `o` on NaN and on equal zeros).
     fn max(self, o: Self) -> Self;
-    /// Per-lane minimum.
+    /// Per-lane minimum: `o` unless `self < o`.
     fn min(self, o: Self) -> Self;
     /// Mask of the lanes where `self < o`.
     fn lt(self, o: Self) -> Self;
@@ -100,23 +232,57 @@ pub trait Lane:
     fn gt(self, o: Self) -> Self;
     /// Mask of the lanes where `self <= o`.
     fn le(self, o: Self) -> Self;
+    /// Mask of the lanes where `self == o`.
+    fn eq(self, o: Self) -> Self;
     /// Per lane: `t` where the mask `self` is set, else `f`.
     fn select(self, t: Self, f: Self) -> Self;
-    /// Per-lane `atan2(self, x)` (rad), `self` being y.
-    fn atan2(self, x: Self) -> Self;
-    /// Per-lane sine and cosine of `self` (rad).
-    fn sin_cos(self) -> (Self, Self);
-    /// Per-lane `e^self`.
-    fn exp(self) -> Self;
-    /// Whether any lane of the mask is set.
-    fn any(self) -> bool;
+    /// Per lane `2^n` for whole-numbered lanes `n` in [-126, 127].
+    fn pow2i(self) -> Self;
     /// The mask's lanes as bits, lane `i` at bit `i`.
     fn bitmask(self) -> u32;
+    /// Runs `work` in a function compiled for this lane type's instruction set.
+    fn dispatch<K: LaneWork<Self>>(work: K) -> K::Output;
 
+    /// Lane `i`'s value.
+    #[inline(always)]
+    fn lane(self, i: usize) -> f32 {
+        self.at(i)
+    }
+    /// Whether any lane of the mask is set.
+    #[inline(always)]
+    fn any(self) -> bool {
+        self.bitmask() != 0
+    }
     /// All lanes zero.
     #[inline(always)]
     fn zero() -> Self {
         Self::splat(0.0)
+    }
+    /// Per-lane `atan2(self, x)` (rad), `self` being y: [`maths::atan2`].
+    #[inline(always)]
+    fn atan2(self, x: Self) -> Self {
+        maths::atan2(self, x)
+    }
+    /// Per-lane sine and cosine of `self` (rad): [`maths::sin_cos`].
+    #[inline(always)]
+    fn sin_cos(self) -> (Self, Self) {
+        maths::sin_cos(self)
+    }
+    /// Per-lane `e^self`: [`maths::exp`].
+    #[inline(always)]
+    fn exp(self) -> Self {
+        maths::exp(self)
+    }
+    /// Appends `[a, base + k]` to `out` for each set bit `k` of `bits` (below `W`), in order:
+    /// the broad phase's pairs from a mask of lanes (a lane type may store them with its own
+    /// instructions, with no branch per pair).
+    #[inline(always)]
+    fn push_pairs(out: &mut Vec<[u32; 2]>, a: u32, base: u32, bits: u32) {
+        let mut bits = bits;
+        while bits != 0 {
+            out.push([a, base + bits.trailing_zeros()]);
+            bits &= bits - 1;
+        }
     }
 }
 
@@ -125,92 +291,3 @@ pub trait Lane:
 pub fn not<L: Lane>(mask: L) -> L {
     mask.select(L::zero(), L::zero().lt(L::splat(1.0)))
 }
-
-macro_rules! impl_lane {
-    ($t:ty, $w:expr) => {
-        impl Lane for $t {
-            const W: usize = $w;
-            #[inline(always)]
-            fn splat(x: f32) -> Self {
-                <$t>::splat(x)
-            }
-            #[inline(always)]
-            fn from_fn(mut f: impl FnMut(usize) -> f32) -> Self {
-                let mut a = [0.0f32; $w];
-                for (i, x) in a.iter_mut().enumerate() {
-                    *x = f(i);
-                }
-                <$t>::new(a)
-            }
-            #[inline(always)]
-            fn lane(self, i: usize) -> f32 {
-                self.to_array()[i]
-            }
-            #[inline(always)]
-            fn at(&self, i: usize) -> f32 {
-                self.as_array()[i]
-            }
-            #[inline(always)]
-            fn sqrt(self) -> Self {
-                <$t>::sqrt(self)
-            }
-            #[inline(always)]
-            fn recip_sqrt_newton(self) -> Self {
-                let y = <$t>::recip_sqrt(self);
-                y * (<$t>::splat(1.5) - <$t>::splat(0.5) * self * y * y)
-            }
-            #[inline(always)]
-            fn abs(self) -> Self {
-                <$t>::abs(self)
-            }
-            #[inline(always)]
-            fn max(self, o: Self) -> Self {
-                <$t>::max(self, o)
-            }
-            #[inline(always)]
-            fn min(self, o: Self) -> Self {
-                <$t>::min(self, o)
-            }
-            #[inline(always)]
-            fn lt(self, o: Self) -> Self {
-                self.simd_lt(o)
-            }
-            #[inline(always)]
-            fn gt(self, o: Self) -> Self {
-                self.simd_gt(o)
-            }
-            #[inline(always)]
-            fn le(self, o: Self) -> Self {
-                self.simd_le(o)
-            }
-            #[inline(always)]
-            fn select(self, t: Self, f: Self) -> Self {
-                <$t>::select(self, t, f)
-            }
-            #[inline(always)]
-            fn atan2(self, x: Self) -> Self {
-                <$t>::atan2(self, x)
-            }
-            #[inline(always)]
-            fn sin_cos(self) -> (Self, Self) {
-                <$t>::sin_cos(self)
-            }
-            #[inline(always)]
-            fn exp(self) -> Self {
-                <$t>::exp(self)
-            }
-            #[inline(always)]
-            fn any(self) -> bool {
-                <$t>::any(self)
-            }
-            #[inline(always)]
-            fn bitmask(self) -> u32 {
-                <$t>::to_bitmask(self) as u32
-            }
-        }
-    };
-}
-
-impl_lane!(wide::f32x4, 4);
-impl_lane!(wide::f32x8, 8);
-impl_lane!(wide::f32x16, 16);

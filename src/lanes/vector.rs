@@ -244,13 +244,12 @@ impl<L: Lane> Q<L> {
             z: two * (self.x * self.z - self.w * self.y),
         }
     }
-    /// Renormalised to unit length by a Newton-refined inverse square root (for near-unit inputs).
+    /// Renormalised to unit length: one square root and one division, exact on every target
+    /// (a hardware reciprocal estimate differs between SSE, AVX and AVX-512).
     #[inline(always)]
     pub fn normalize(self) -> Self {
-        // the quaternions renormalised here are within a small turn of unit length, so the
-        // Newton-refined estimate is as good as a square root and a division, and cheaper
-        let inv = (self.x * self.x + self.y * self.y + self.z * self.z + self.w * self.w)
-            .recip_sqrt_newton();
+        let inv = L::splat(1.0)
+            / (self.x * self.x + self.y * self.y + self.z * self.z + self.w * self.w).sqrt();
         Q {
             x: self.x * inv,
             y: self.y * inv,

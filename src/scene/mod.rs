@@ -70,6 +70,24 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// Reads and checks a scene file, then takes its `variant` (`None`: the scene as written)
+    /// and applies `overrides`, checking the result.
+    pub fn load_with(
+        path: impl AsRef<Path>,
+        variant: Option<&str>,
+        overrides: &Overrides,
+    ) -> anyhow::Result<Scene> {
+        let path = path.as_ref();
+        let mut scene = Scene::load(path)?;
+        if let Some(name) = variant {
+            scene = scene.variant(name)?;
+        }
+        overrides.apply(&mut scene.def);
+        (overrides.check_applied(&scene.def))
+            .map_err(|m| anyhow::anyhow!("{}: {m}", path.display()))?;
+        Ok(scene)
+    }
+
     /// Reads and checks a scene file.
     pub fn load(path: impl AsRef<Path>) -> anyhow::Result<Scene> {
         let path = path.as_ref();

@@ -6,8 +6,8 @@
 //!
 //! In the 1000-ragdoll rain the per-body passes were a fifth of the frame (the gyroscopic
 //! update, the exponential map and the world inertia at about 100 ns a body and substep, the
-//! logarithm map of the commit about 60). A batch holding anything but awake dynamic bodies
-//! (fixed, kinematic or sleeping) runs the scalar code instead, body by body.
+//! logarithm map of the commit about 60). Fixed, kinematic and sleeping bodies run the scalar
+//! code, body by body, so no body's result depends on the batch it shares.
 //!
 //! [`integrate_velocity`]: super::integrate::integrate_velocity
 //! [`predict_pose`]: super::integrate::predict_pose
@@ -17,26 +17,85 @@ use super::body::SolverBody;
 use super::integrate::{commit_pose, integrate_velocity, predict_pose, GYROSCOPIC_PASSES};
 use super::Settings;
 use crate::body::{Body, BodyKind};
-use crate::lanes::{not, Lane, MAX_LANES, Q, V3};
+use crate::lanes::{not, Lane, LaneWidth, LaneWork, MAX_LANES, Q, V3};
 use crate::math::{Mat3, Vec3};
+use crate::with_lane_type;
 
-/// Whether the lanes may take `body` (else its batch runs the scalar code).
+/// Whether the lanes may take `body`: the others run the scalar code, body by body.
 fn plain(body: &Body) -> bool {
     body.kind == BodyKind::Dynamic && !body.asleep
 }
 
-/// Steps 3.1-3.2 for one to `L::W` bodies: velocities, then the preview poses into `hot`.
+/// Steps 3.1-3.2 for every body, `width` lanes at a time.
+pub(super) fn predict(
+    width: LaneWidth,
+    bodies: &mut [Body],
+    hot: &mut [SolverBody],
+    settings: &Settings,
+    h: f32,
+) {
+    struct Predict<'a> {
+        bodies: &'a mut [Body],
+        hot: &'a mut [SolverBody],
+        settings: &'a Settings,
+        h: f32,
+    }
+    impl<L: Lane> LaneWork<L> for Predict<'_> {
+        type Output = ();
+        #[inline(always)]
+        fn run(self) {
+            let batches = self.bodies.chunks_mut(L::W).zip(self.hot.chunks_mut(L::W));
+            for (bodies, hot) in batches {
+                predict_batch::<L>(bodies, hot, self.settings, self.h);
+            }
+        }
+    }
+    let work = Predict {
+        bodies,
+        hot,
+        settings,
+        h,
+    };
+    with_lane_type!(width, L => L::dispatch(work))
+}
+
+/// Step 3.4 for every body, `width` lanes at a time.
+pub(super) fn commit(width: LaneWidth, bodies: &mut [Body], hot: &[SolverBody], h: f32) {
+    struct Commit<'a> {
+        bodies: &'a mut [Body],
+        hot: &'a [SolverBody],
+        h: f32,
+    }
+    impl<L: Lane> LaneWork<L> for Commit<'_> {
+        type Output = ();
+        #[inline(always)]
+        fn run(self) {
+            let batches = self.bodies.chunks_mut(L::W).zip(self.hot.chunks(L::W));
+            for (bodies, hot) in batches {
+                commit_batch::<L>(bodies, hot, self.h);
+            }
+        }
+    }
+    with_lane_type!(width, L => L::dispatch(Commit { bodies, hot, h }))
+}
+
+/// Steps 3.1-3.2 for one to `L::W` bodies: velocities, then the preview poses into `hot`. Each
+/// body the lanes may not take runs the scalar code, so a body's result does not depend on
+/// the batch it is in.
+#[inline(always)]
 pub(super) fn predict_batch<L: Lane>(
     bodies: &mut [Body],
     hot: &mut [SolverBody],
     settings: &Settings,
     h: f32,
 ) {
-    if bodies.len() < 2 || !bodies.iter().all(plain) {
-        for (body, hot) in bodies.iter_mut().zip(hot) {
+    for (body, hot) in bodies.iter_mut().zip(hot.iter_mut()) {
+        if !plain(body) {
             integrate_velocity(body, settings, h);
             *hot = predict_pose(body, h);
         }
+    }
+    if !bodies.iter().any(plain) {
         return;
     }
     let n = bodies.len();
@@ -66,10 +125,13 @@ pub(super) fn predict_batch<L: Lane>(
 
     // 3.2 the preview pose and its world inverse inertia
     let predicted_position = position + velocity.scale(hl);
-    let predicted = exp(angular.scale(hl)).mul(orientation).normalize_exact();
+    let predicted = exp(angular.scale(hl)).mul(orientation).normalize();
     let world_inverse_inertia = world_inertia(predicted, inverse_inertia);
     for i in 0..n {
         let body = &mut bodies[i];
+        if !plain(body) {
+            continue;
+        }
         body.linear_velocity = velocity.lane(i);
         body.angular_velocity = angular.lane(i);
         let q = predicted.lane(i);
@@ -84,12 +146,16 @@ pub(super) fn predict_batch<L: Lane>(
     }
 }
 
-/// Step 3.4 for one to `L::W` bodies: velocities from the corrected previews, then the poses.
+/// Step 3.4 for one to `L::W` bodies: velocities from the corrected previews, then the poses
+/// (the bodies the lanes may not take by the scalar code, as in [`predict_batch`]).
+#[inline(always)]
 pub(super) fn commit_batch<L: Lane>(bodies: &mut [Body], hot: &[SolverBody], h: f32) {
-    if bodies.len() < 2 || !bodies.iter().all(plain) {
-        for (body, hot) in bodies.iter_mut().zip(hot) {
+    for (body, hot) in bodies.iter_mut().zip(hot) {
+        if !plain(body) {
             commit_pose(body, hot, h);
         }
+    }
+    if !bodies.iter().any(plain) {
         return;
     }
     let n = bodies.len();
@@ -106,7 +172,7 @@ pub(super) fn commit_batch<L: Lane>(bodies: &mut [Body], hot: &[SolverBody], h: 
         .rotation_vector()
         .scale(inverse_h);
     let world_inverse_inertia = world_inertia(after, inverse_inertia);
-    for (i, body) in bodies.iter_mut().enumerate() {
+    for (i, body) in bodies.iter_mut().enumerate().filter(|(_, b)| plain(b)) {
         let (p, q) = (hot[i].position, hot[i].orientation);
         body.linear_velocity = velocity.lane(i);
         body.angular_velocity = angular.lane(i);
@@ -120,6 +186,7 @@ pub(super) fn commit_batch<L: Lane>(bodies: &mut [Body], hot: &[SolverBody], h: 
 /// [`GYROSCOPIC_PASSES`] fixed-point passes while any lane has not converged; a lane whose
 /// passes stop contracting keeps its Newton step, and a lane whose Jacobian is singular keeps
 /// its velocity. Returns the world angular velocity.
+#[inline(always)]
 fn gyroscopic_update<L: Lane>(
     q: Q<L>,
     angular: V3<L>,
@@ -258,22 +325,6 @@ fn world_inertia<L: Lane>(q: Q<L>, d: V3<L>) -> [Mat3; MAX_LANES] {
     })
 }
 
-impl<L: Lane> Q<L> {
-    /// Renormalised with a true square root: the predicted orientation becomes the body's
-    /// orientation, carried from step to step.
-    #[inline(always)]
-    fn normalize_exact(self) -> Self {
-        let inv = L::splat(1.0)
-            / (self.x * self.x + self.y * self.y + self.z * self.z + self.w * self.w).sqrt();
-        Q {
-            x: self.x * inv,
-            y: self.y * inv,
-            z: self.z * inv,
-            w: self.w * inv,
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -327,10 +378,11 @@ mod tests {
     /// Steps 3.1-3.2 and 3.4 in lanes give each body what the scalar per-body steps give it,
     /// to rounding (the lanes' `sin_cos` and `atan2` against libm's), with one step a frame
     /// (four gyroscopic passes) and with substeps (passes until converged), for a full batch
-    /// and a short one; a batch with a fixed body runs the scalar code to the bit.
+    /// and a short one; a fixed body in a batch runs the scalar code to the bit, and the
+    /// others get what they get in a batch without it.
     #[test]
     fn the_lanes_integrate_and_commit_as_the_scalar_code() {
-        type L = wide::f32x16;
+        type L = crate::lanes::portable::Portable<16>;
         for (count, substeps) in [(16, 1), (16, 4), (5, 4)] {
             let settings = settings(substeps);
             let h = settings.dt / substeps as f32;
@@ -388,21 +440,37 @@ mod tests {
                 }
             }
         }
-        // a fixed body in the batch: the scalar code, bit for bit
+        // a fixed body in the batch: the scalar code, bit for bit; the others as without it
         let settings = settings(4);
+        let h = 1.0 / 240.0;
         let mut with_fixed = bodies(16);
         with_fixed[3] = Body::new("floor", BodyKind::Fixed, Shape::HalfSpace, 1.0);
-        let mut expected = with_fixed.clone();
-        let mut expected_hot = vec![SolverBody::default(); 16];
-        for (body, hot) in expected.iter_mut().zip(&mut expected_hot) {
-            integrate_velocity(body, &settings, 1.0 / 240.0);
-            *hot = predict_pose(body, 1.0 / 240.0);
-        }
+        let mut fixed = [with_fixed[3].clone()];
+        let mut fixed_hot = [SolverBody::default()];
+        integrate_velocity(&mut fixed[0], &settings, h);
+        fixed_hot[0] = predict_pose(&fixed[0], h);
+        let mut others: Vec<Body> = (0..16)
+            .filter(|&i| i != 3)
+            .map(|i| with_fixed[i].clone())
+            .collect();
+        let mut others_hot = vec![SolverBody::default(); 15];
+        predict_batch::<L>(&mut others, &mut others_hot, &settings, h);
         let mut hot = vec![SolverBody::default(); 16];
-        predict_batch::<L>(&mut with_fixed, &mut hot, &settings, 1.0 / 240.0);
+        predict_batch::<L>(&mut with_fixed, &mut hot, &settings, h);
         for i in 0..16 {
-            assert_eq!(with_fixed[i].angular_velocity, expected[i].angular_velocity);
-            assert_eq!(hot[i].orientation, expected_hot[i].orientation);
+            let (body, hot_body) = match i {
+                3 => (&fixed[0], &fixed_hot[0]),
+                _ => (
+                    &others[i - (i > 3) as usize],
+                    &others_hot[i - (i > 3) as usize],
+                ),
+            };
+            assert_eq!(
+                with_fixed[i].angular_velocity, body.angular_velocity,
+                "body {i}"
+            );
+            assert_eq!(hot[i].orientation, hot_body.orientation, "body {i}");
+            assert_eq!(hot[i].position, hot_body.position, "body {i}");
         }
     }
 }

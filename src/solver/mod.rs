@@ -34,7 +34,7 @@
 //!       ([`Settings::angular_speed_limit`]);
 //!    2. predict the preview poses `p* = p + h v`, `q* = exp(h w) q` (exact exponential map)
 //!       into the hot [`SolverBody`] array, with each body's world inverse inertia there (the
-//!       SIMD solver does 3.1-3.2 and 3.4 for [`SIMD_WIDTH`] bodies at a time:
+//!       SIMD solver does 3.1-3.2 and 3.4 a lane width of bodies at a time:
 //!       `integrate_lanes.rs`);
 //!       take the rows' per-substep constants (the limits' starting twist; a stiff rod's
 //!       compliance; with joint damping, each damper's starting
@@ -80,16 +80,14 @@ mod settings;
 pub use crate::{lanes, solver_body as body};
 
 use crate::body::Body;
-use crate::constraint::ball_socket_lanes::JointLanes;
 use crate::constraint::{Constraint, Constraints, DamperRow, JointDamping, JointRow, RodRow};
 use crate::contact::{ContactPoint, Contacts};
-use crate::lanes::Wide;
+use crate::lanes::LaneWidth;
 use body::{SharedBodies, SolverBody};
 use graph::{Colouring, Colours, Order};
 use integrate::{commit_pose, integrate_velocity, predict_pose};
 pub use integrate::{gyroscopic_update, GYROSCOPIC_PASSES};
-use packed::Packed;
-pub use packed::SIMD_WIDTH;
+use packed::{with_packs, WidthPacks};
 use profile::lap;
 pub use profile::Profile;
 use rayon::prelude::*;
@@ -121,11 +119,10 @@ pub struct Solver {
     dampers: Vec<DamperRow>,
     damper_colours: Colours,
     contact_colours: Colours,
-    /// The rows in lanes for [`SolverKind::Simd`] ([`packed`]): rods packed once a substep,
-    /// joints once a frame, contact points once a detection.
-    joint_lanes: Packed<JointRow>,
-    rod_lanes: Packed<RodRow>,
-    contact_lanes: Packed<ContactPoint>,
+    /// The rows in lanes for [`SolverKind::Simd`] ([`packed`]), in the lane type of the
+    /// width the CPU runs ([`LaneWidth::detect`]): rods packed once a substep, joints once a
+    /// frame, contact points once a detection.
+    packs: WidthPacks,
     colouring: Colouring,
     joint_scratch: Vec<JointRow>,
     rod_scratch: Vec<RodRow>,
@@ -206,10 +203,28 @@ impl Solver {
             // the SIMD solver's points, kept in lanes, go back before the next detection
             if simd && (detect_each_substep || substep + 1 == substeps) {
                 let parallel = rayon::current_num_threads() > 1;
-                self.contact_lanes.unpack(&mut contacts.points, parallel);
+                let points = &mut contacts.points;
+                with_packs!(&mut self.packs, p => p.contacts.unpack(points, parallel));
                 self.profile.contacts += lap(&mut clock);
             }
         }
+    }
+
+    /// The lane width the SIMD solver runs.
+    pub fn lane_width(&self) -> LaneWidth {
+        self.packs.width()
+    }
+
+    /// Runs the SIMD solver `width` lanes at a time (a width the CPU runs: see
+    /// [`LaneWidth::is_available`]); results are the same at every width. Call between steps:
+    /// the next step packs its rows afresh.
+    ///
+    /// # Panics
+    /// If this CPU does not run `width`.
+    pub fn set_lane_width(&mut self, width: LaneWidth) {
+        assert!(width.is_available(), "this CPU does not run {width:?}");
+        self.packs = WidthPacks::new(width);
+        self.prepared = None;
     }
 
     /// Drops what step 2 kept of the last frame, so the next step prepares every joint, rod
@@ -283,7 +298,8 @@ impl Solver {
             |r| (r.body_a, r.body_b),
         );
         if simd {
-            (self.joint_lanes).pack(&self.joints, &self.joint_colours, parallel);
+            let (rows, colours) = (&self.joints, &self.joint_colours);
+            with_packs!(&mut self.packs, p => p.joints.pack(rows, colours, parallel));
         }
     }
 
@@ -301,7 +317,8 @@ impl Solver {
         );
         if simd {
             let parallel = rayon::current_num_threads() > 1;
-            (self.contact_lanes).pack(&contacts.points, &self.contact_colours, parallel);
+            let (points, colours) = (&contacts.points, &self.contact_colours);
+            with_packs!(&mut self.packs, p => p.contacts.pack(points, colours, parallel));
         }
     }
 
@@ -333,7 +350,9 @@ impl Solver {
         // inelastic
         if settings.contacts && settings.solver == SolverKind::Simd {
             let points = &mut contacts.points;
-            (self.contact_lanes).velocity_pass(points, bodies, impact_speed, parallel);
+            with_packs!(&mut self.packs, p => {
+                p.contacts.velocity_pass(points, bodies, impact_speed, parallel)
+            });
         } else if settings.contacts {
             let colours = &self.contact_colours;
             let ranges = colours.ranges().map(|(c, r)| (r, !colours.is_overflow(c)));
@@ -343,17 +362,14 @@ impl Solver {
     }
 
     /// Steps 3.1-3.2: each body's velocities, then its preview pose into the hot array (the
-    /// SIMD solver takes [`SIMD_WIDTH`] bodies at a time: [`integrate_lanes`]).
+    /// SIMD solver takes a lane width of bodies at a time: [`integrate_lanes`]).
     fn predict(&mut self, settings: &Settings, h: f32, bodies: &mut [Body], parallel: bool) {
         self.bodies.resize(bodies.len(), SolverBody::default());
         let simd = settings.solver == SolverKind::Simd;
+        let width = self.packs.width();
         let predict = |bodies: &mut [Body], hot: &mut [SolverBody]| {
             if simd {
-                let batches = bodies
-                    .chunks_mut(SIMD_WIDTH)
-                    .zip(hot.chunks_mut(SIMD_WIDTH));
-                batches
-                    .for_each(|(b, s)| integrate_lanes::predict_batch::<Wide>(b, s, settings, h));
+                integrate_lanes::predict(width, bodies, hot, settings, h);
             } else {
                 bodies.iter_mut().zip(hot).for_each(|(body, hot)| {
                     integrate_velocity(body, settings, h);
@@ -384,10 +400,8 @@ impl Solver {
     ) {
         if settings.solver == SolverKind::Simd {
             // the joints are packed once a frame; their lanes take the starting twist
-            let begin_lanes = |lanes: &mut JointLanes<Wide>| lanes.begin_substep(bodies_now);
-            let begin_row = |row: &mut JointRow| row.begin_substep(bodies_now);
             let joints = &mut self.joints;
-            (self.joint_lanes).each_colour(joints, parallel, begin_lanes, begin_row);
+            with_packs!(&mut self.packs, p => p.joints.begin_substep(joints, bodies_now, parallel));
         } else if parallel && self.joints.len() >= 2 * PARALLEL_MIN_ROWS {
             self.joints
                 .par_chunks_mut(PARALLEL_MIN_ROWS)
@@ -424,11 +438,13 @@ impl Solver {
         let warm = settings.contact_warm_start;
         if settings.solver == SolverKind::Simd {
             let start = contacts.start_substep(h, push_speed, softness, stacking);
-            let (lanes, points) = (&mut self.contact_lanes, &mut contacts.points);
-            lanes.begin_substep(points, bodies_now, &start, parallel);
-            if warm > 0.0 {
-                lanes.warm_start(points, &mut self.bodies, warm, impact_speed, parallel);
-            }
+            let (points, hot) = (&mut contacts.points, &mut self.bodies);
+            with_packs!(&mut self.packs, p => {
+                p.contacts.begin_substep(points, bodies_now, &start, parallel);
+                if warm > 0.0 {
+                    p.contacts.warm_start(points, hot, warm, impact_speed, parallel);
+                }
+            });
         } else {
             contacts.begin_substep(bodies_now, h, push_speed, softness, stacking);
             if warm > 0.0 {
@@ -448,7 +464,8 @@ impl Solver {
         let shared = SharedBodies::new(&mut self.bodies);
         let simd = settings.solver == SolverKind::Simd;
         if simd {
-            self.rod_lanes.pack(&self.rods, &self.rod_colours, parallel);
+            let (rows, colours) = (&self.rods, &self.rod_colours);
+            with_packs!(&mut self.packs, p => p.rods.pack(rows, colours, parallel));
             self.profile.rods += lap(clock);
         }
         // the last `contact_extra_sweeps` passes sweep the contacts alone
@@ -458,45 +475,32 @@ impl Solver {
                     solve_colours(&mut self.dampers, &self.damper_colours, shared, parallel);
                     self.profile.joints += lap(clock);
                 }
-                let rod_lanes = simd.then_some(&mut self.rod_lanes);
-                sweep(
-                    &mut self.rods,
-                    &self.rod_colours,
-                    rod_lanes,
-                    shared,
-                    parallel,
-                );
+                let (rods, colours) = (&mut self.rods, &self.rod_colours);
+                with_packs!(&mut self.packs, p => {
+                    sweep(rods, colours, simd.then_some(&mut p.rods), shared, parallel)
+                });
                 self.profile.rods += lap(clock);
-                let joint_lanes = simd.then_some(&mut self.joint_lanes);
-                sweep(
-                    &mut self.joints,
-                    &self.joint_colours,
-                    joint_lanes,
-                    shared,
-                    parallel,
-                );
+                let (joints, colours) = (&mut self.joints, &self.joint_colours);
+                with_packs!(&mut self.packs, p => {
+                    sweep(joints, colours, simd.then_some(&mut p.joints), shared, parallel)
+                });
                 self.profile.joints += lap(clock);
             }
-            let contact_lanes = simd.then_some(&mut self.contact_lanes);
-            let points = &mut contacts.points;
-            sweep(
-                points,
-                &self.contact_colours,
-                contact_lanes,
-                shared,
-                parallel,
-            );
+            let (points, colours) = (&mut contacts.points, &self.contact_colours);
+            with_packs!(&mut self.packs, p => {
+                sweep(points, colours, simd.then_some(&mut p.contacts), shared, parallel)
+            });
             self.profile.contacts += lap(clock);
         }
     }
 
-    /// Step 3.4: velocities from the corrected previews; commit the poses (the SIMD solver
-    /// [`SIMD_WIDTH`] bodies at a time).
+    /// Step 3.4: velocities from the corrected previews; commit the poses (the SIMD solver a
+    /// lane width of bodies at a time).
     fn commit_poses(&mut self, simd: bool, h: f32, bodies: &mut [Body], parallel: bool) {
+        let width = self.packs.width();
         let commit = |bodies: &mut [Body], hot: &[SolverBody]| {
             if simd {
-                let batches = bodies.chunks_mut(SIMD_WIDTH).zip(hot.chunks(SIMD_WIDTH));
-                batches.for_each(|(b, s)| integrate_lanes::commit_batch::<Wide>(b, s, h));
+                integrate_lanes::commit(width, bodies, hot, h);
             } else {
                 bodies
                     .iter_mut()

@@ -7,16 +7,17 @@ use super::packed::{self, Packed};
 use super::PARALLEL_MIN_ROWS;
 use crate::constraint::{DamperRow, JointRow, RodRow};
 use crate::contact::ContactPoint;
+use crate::lanes::Lane;
 use rayon::prelude::*;
 
 /// One sweep over a kind's rows, colour by colour: from their packed lanes with the SIMD solver
 /// ([`packed::Packed::solve`]), else one row at a time with the scalar kernel (the reference).
 /// Rows of a colour are independent, so a large colour is split into chunks across threads;
 /// the overflow colour is always sequential.
-pub(super) fn sweep<T: packed::LaneRows>(
+pub(super) fn sweep<T: packed::LaneRows, L: Lane>(
     rows: &mut [T],
     colours: &Colours,
-    lanes: Option<&mut Packed<T>>,
+    lanes: Option<&mut Packed<T, L>>,
     bodies: SharedBodies,
     parallel: bool,
 ) {

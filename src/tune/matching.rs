@@ -11,7 +11,7 @@ use super::{
 };
 use crate::constraint::Constraint;
 use crate::lab::Lab;
-use crate::math::Vec3;
+use crate::math::{powf, Vec3};
 use crate::ragdoll::SpineKind;
 use crate::scene::Scene;
 
@@ -131,7 +131,7 @@ pub fn match_psi(
     // A coarse scan first: psi need not fall monotonically as the setting rises (a weak rod
     // swings or tips over), so bisect in the stiffest pair of neighbours that brackets it.
     let scan: Vec<f32> = (0..=MATCH_SCAN)
-        .map(|i| lo * (hi / lo).powf(i as f32 / MATCH_SCAN as f32))
+        .map(|i| lo * powf(hi / lo, i as f32 / MATCH_SCAN as f32))
         .collect();
     let psis = (scan.par_iter())
         .map(|&v| psi_at(v))

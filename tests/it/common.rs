@@ -7,6 +7,22 @@ use std::path::{Path, PathBuf};
 use rerun::external::re_log_encoding::DecoderApp;
 use rerun::log::{Chunk, LogMsg};
 
+/// Calls `$f::<L>(args)` with `L` the `$w`-lane type: this CPU's where it runs it, else the
+/// portable type of that width, which computes the same bits (`rodlab::lanes::portable`).
+macro_rules! at_width {
+    ($w:expr, $($f:ident)::+ ($($arg:expr),* $(,)?)) => {{
+        use rodlab::lanes::{portable::Portable, F32x16, F32x4, F32x8, LaneWidth};
+        match $w {
+            4 => $($f)::+::<F32x4>($($arg),*),
+            8 if LaneWidth::W8.is_available() => $($f)::+::<F32x8>($($arg),*),
+            8 => $($f)::+::<Portable<8>>($($arg),*),
+            16 if LaneWidth::W16.is_available() => $($f)::+::<F32x16>($($arg),*),
+            16 => $($f)::+::<Portable<16>>($($arg),*),
+            w => panic!("no {w}-lane type"),
+        }
+    }};
+}
+
 /// The lab of `scenes/<name>.toml` with `overrides` applied, and the frames the scene then asks
 /// for.
 pub fn lab_with(name: &str, overrides: rodlab::sim::Overrides) -> (rodlab::lab::Lab, u32) {

@@ -128,11 +128,7 @@ fn compare_points((bodies, points): (Vec<SolverBody>, Vec<ContactPoint>), slide:
         let mut lanes_points = points.clone();
         let shared = SharedBodies::new(&mut lanes_bodies);
         for chunk in lanes_points.chunks_mut(batch) {
-            match width {
-                4 => lanes::solve_lanes::<wide::f32x4>(chunk, shared),
-                8 => lanes::solve_lanes::<wide::f32x8>(chunk, shared),
-                _ => lanes::solve_lanes::<wide::f32x16>(chunk, shared),
-            }
+            at_width!(width, lanes::solve_lanes(chunk, shared));
         }
         let (mut position, mut orientation) = (0.0f32, 0.0f32);
         for (x, y) in scalar.iter().zip(&lanes_bodies) {

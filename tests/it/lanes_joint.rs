@@ -4,10 +4,8 @@
 //! Cases: cheap and exact flavours (pure and mixed batches), with and without limits and
 //! springs, lanes whose limits are violated (swing, twist on both sides, twist unwrapped across
 //! +-pi), lanes at rest, an antiparallel swing (the fallback axis), and static bodies shared
-//! across lanes. W = 4 (`solve_lanes::<f32x4>`) and W = 8 (`solve_lanes::<f32x8>`).
-//!
-//! `timing` (ignored) prints ns per joint for scalar, W=4 and W=8, cheap and exact:
-//! `cargo test --release --test it lanes_joint::timing -- --ignored --nocapture`.
+//! across lanes. W = 4, 8 and 16 (`solve_lanes::<L>`; a width this CPU does not run takes the
+//! portable lanes of that width, which compute the same bits).
 
 use rodlab::constraint::ball_socket_lanes::solve_lanes;
 use rodlab::constraint::{AngularLimit, AngularSpring, JointFlavour, JointRow};
@@ -322,13 +320,13 @@ const POSITION_TOL: f32 = 1e-5;
 const ORIENTATION_TOL: f32 = 1e-4;
 
 fn lanes4(rows: &mut [JointRow], bodies: SharedBodies) {
-    solve_lanes::<wide::f32x4>(rows, bodies)
+    at_width!(4, solve_lanes(rows, bodies))
 }
 fn lanes8(rows: &mut [JointRow], bodies: SharedBodies) {
-    solve_lanes::<wide::f32x8>(rows, bodies)
+    at_width!(8, solve_lanes(rows, bodies))
 }
 fn lanes16(rows: &mut [JointRow], bodies: SharedBodies) {
-    solve_lanes::<wide::f32x16>(rows, bodies)
+    at_width!(16, solve_lanes(rows, bodies))
 }
 
 const ALL: [Case; 7] = [
@@ -419,7 +417,7 @@ fn rest_lanes_do_not_move_and_fallback_axis_works() {
     );
     let mut lanes = bodies.clone();
     let mut lane_rows = rows.clone();
-    solve_lanes::<wide::f32x4>(&mut lane_rows, SharedBodies::new(&mut lanes));
+    lanes4(&mut lane_rows, SharedBodies::new(&mut lanes));
     for (row, case) in rows.iter().zip([
         Case::Rest,
         Case::Antiparallel,
@@ -471,77 +469,6 @@ fn iterations_stay_together() {
     }
 }
 
-/// ns per joint solve: scalar vs W=4 vs W=8, cheap and exact, with and without limits.
-#[test]
-#[ignore]
-fn timing() {
-    use std::hint::black_box;
-    use std::time::Instant;
-    const JOINTS: usize = 1024;
-    const REPS: usize = 400;
-    for (label, flavour, cases) in [
-        ("cheap", JointFlavour::Cheap, &[Case::Plain][..]),
-        ("exact", JointFlavour::Exact, &[Case::Plain][..]),
-        (
-            "exact_with_limits",
-            JointFlavour::Exact,
-            &[Case::Limited][..],
-        ),
-        (
-            "exact_limits_springs",
-            JointFlavour::Exact,
-            &[Case::Both][..],
-        ),
-    ] {
-        let (bodies, rows) = batch(99, JOINTS, cases, &[flavour], false);
-        let mut work = bodies.clone();
-        let mut lane_rows = rows.clone();
-        let time = |work: &mut Vec<SolverBody>, lane_rows: &mut Vec<JointRow>, kind: usize| {
-            let mut best = f64::INFINITY;
-            for _ in 0..5 {
-                let start = Instant::now();
-                for _ in 0..REPS {
-                    work.copy_from_slice(&bodies);
-                    let shared = SharedBodies::new(work);
-                    match kind {
-                        0 => {}
-                        1 => {
-                            for row in lane_rows.iter() {
-                                unsafe {
-                                    shared.with_pair(row.body_a, row.body_b, |a, b| row.solve(a, b))
-                                };
-                            }
-                        }
-                        4 => lane_rows
-                            .chunks_exact_mut(4)
-                            .for_each(|c| solve_lanes::<wide::f32x4>(c, shared)),
-                        _ => lane_rows
-                            .chunks_exact_mut(8)
-                            .for_each(|c| solve_lanes::<wide::f32x8>(c, shared)),
-                    }
-                    black_box(&mut *work);
-                }
-                best = best.min(start.elapsed().as_secs_f64());
-            }
-            best * 1e9 / (REPS * JOINTS) as f64
-        };
-        let copy = time(&mut work, &mut lane_rows, 0);
-        let scalar = time(&mut work, &mut lane_rows, 1) - copy;
-        let w4 = time(&mut work, &mut lane_rows, 4) - copy;
-        let w8 = time(&mut work, &mut lane_rows, 8) - copy;
-        println!(
-            "{label:>22}: scalar {scalar:6.2} ns/joint, W=4 {w4:6.2} ({:.2}x), W=8 {w8:6.2} ({:.2}x)  [copy {copy:.2} subtracted]",
-            scalar / w4,
-            scalar / w8
-        );
-    }
-}
-
-/// End to end: 16 swinging chains (every colour has 16 rows, so whole batches of 4 and 8),
-/// cheap and exact, limited and sprung, stepped with the scalar and the SIMD solver. The
-/// tumbling chains are sensitive (capsules spin freely about their axis): the scalar run with
-/// every angular velocity changed by 1e-5 rad/s is 2.6e-2 off in orientation after 30 frames,
-/// and the SIMD run about as far, so only a few frames are compared.
 #[test]
 fn world_steps_agree_scalar_and_simd() {
     const FRAMES: usize = 3;

@@ -20,7 +20,6 @@ use rodlab::shape::{Axis, Shape};
 use rodlab::solver::body::{SharedBodies, SolverBody};
 use rodlab::solver::graph::Colours;
 use rodlab::solver::packed::Packed;
-use std::time::Instant;
 
 /// How one rod of the set is perturbed from its straight rest pose.
 struct Case {
@@ -157,12 +156,7 @@ fn lane_pass(bodies: &mut [SolverBody], rows: &mut [RodRow], w: usize) {
     let shared = SharedBodies::new(bodies);
     // 16 lanes take the rods in batches padded to 16 (fewer rods than lanes)
     for batch in rows.chunks_mut(w) {
-        match w {
-            4 => solve_lanes::<wide::f32x4>(batch, shared),
-            8 => solve_lanes::<wide::f32x8>(batch, shared),
-            16 => solve_lanes::<wide::f32x16>(batch, shared),
-            _ => unreachable!(),
-        }
+        at_width!(w, solve_lanes(batch, shared));
     }
 }
 
@@ -326,40 +320,10 @@ fn other_modes_fall_back_to_scalar() {
         starts: vec![0, 4],
         overflow: None,
     };
-    let mut packed = Packed::<RodRow>::default();
+    let mut packed = Packed::<RodRow, rodlab::lanes::F32x4>::default();
     packed.pack(&rows_b, &colours, false);
     packed.solve(&mut rows_b, SharedBodies::new(&mut batch), false);
     for (s, b) in scalar.iter().zip(&batch) {
         assert_eq!((s.position, s.orientation), (b.position, b.orientation));
     }
-}
-
-#[test]
-fn timing_per_rod() {
-    const COPIES: usize = 128; // 1024 rods
-    const PASSES: usize = 200;
-    let (start, rows) = rods(COPIES);
-    let n = rows.len();
-    let time = |f: &mut dyn FnMut(&mut [SolverBody], &mut [RodRow])| {
-        let (mut bodies, mut rows) = (start.clone(), rows.clone());
-        let mut best = f64::INFINITY;
-        for _ in 0..5 {
-            let t = Instant::now();
-            for _ in 0..PASSES {
-                bodies.copy_from_slice(&start); // every pass solves the perturbed rods
-                f(&mut bodies, &mut rows);
-            }
-            best = best.min(t.elapsed().as_secs_f64());
-        }
-        std::hint::black_box(&bodies);
-        best * 1e9 / (PASSES * n) as f64
-    };
-    let copy = time(&mut |_, _| {});
-    let scalar = time(&mut |b, r| scalar_pass(b, r)) - copy;
-    let w4 = time(&mut |b, r| lane_pass(b, r, 4)) - copy;
-    let w8 = time(&mut |b, r| lane_pass(b, r, 8)) - copy;
-    println!(
-        "ns per rod ({n} rods, best of 5 x {PASSES} passes, body copy {copy:.1} ns/rod subtracted): \
-         scalar {scalar:.1}, W=4 {w4:.1}, W=8 {w8:.1}"
-    );
 }

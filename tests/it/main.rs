@@ -2,8 +2,9 @@
 //! and each linked the `rerun` crate. Run one file's tests with
 //! `cargo test --release --test it <file>::`.
 
-mod chain;
+#[macro_use]
 mod common;
+mod chain;
 mod conservation;
 mod contact_gaps;
 mod contacts;

@@ -1,7 +1,7 @@
 //! The rod's geometry: the chord ratio of the length constraint (eq. 9), the curve constraint
 //! (eq. 6) with its gradient, and points of the circular arc (eq. 7-8).
 
-use crate::math::{angle_between, any_perpendicular, Vec3};
+use crate::math::{angle_between, any_perpendicular, atan2, cos, sin, Vec3};
 
 /// `2 sin(psi/2) / psi`, the chord of a unit-length arc bent by psi (eq. 9), with its series
 /// `1 - psi^2/24 + psi^4/1920` near 0.
@@ -10,7 +10,7 @@ pub fn chord_ratio(psi: f32) -> f32 {
         let p2 = psi * psi;
         1.0 - p2 / 24.0 + p2 * p2 / 1920.0
     } else {
-        2.0 * (0.5 * psi).sin() / psi
+        2.0 * sin(0.5 * psi) / psi
     }
 }
 
@@ -19,7 +19,7 @@ pub fn chord_ratio_derivative(psi: f32) -> f32 {
     if psi.abs() < 1e-2 {
         -psi / 12.0 + psi * psi * psi / 480.0
     } else {
-        (psi * (0.5 * psi).cos() - 2.0 * (0.5 * psi).sin()) / (psi * psi)
+        (psi * cos(0.5 * psi) - 2.0 * sin(0.5 * psi)) / (psi * psi)
     }
 }
 
@@ -75,7 +75,7 @@ pub fn curve_projection(pa: Vec3, ta: Vec3, pb: Vec3, tb: Vec3) -> (f32, CurveGr
     let r = reflect(ta);
     let cross = tb.cross(r);
     let sin = cross.length();
-    let error = sin.atan2(tb.dot(r));
+    let error = atan2(sin, tb.dot(r));
     let n = if sin > 1e-12 {
         cross / sin
     } else {
@@ -108,8 +108,8 @@ pub fn arc_point(pa: Vec3, ta: Vec3, tb: Vec3, rest_length: f32, s: f32) -> Vec3
         (s * (1.0 - ps * ps / 6.0), s * ps * (0.5 - ps * ps / 24.0))
     } else {
         // 1 - cos x = 2 sin^2(x/2), without the cancellation of the left side in f32
-        let half = (0.5 * psi * s).sin();
-        ((psi * s).sin() / psi, 2.0 * half * half / psi)
+        let half = sin(0.5 * psi * s);
+        (sin(psi * s) / psi, 2.0 * half * half / psi)
     };
     pa + rest_length * (along * ta + across * k)
 }

@@ -24,7 +24,8 @@
 use super::grid::{fill_column, Aabb};
 use super::rebuild::{code_lane, ALL_CODE_BITS, IN_EVERY_CELL};
 use super::{BroadPhase, CellBox, CellLanes, Joined, Proxy};
-use crate::lanes::{Lane, Wide};
+use crate::lanes::{Lane, LaneWidth, LaneWork, MAX_LANES};
+use crate::with_lane_type;
 
 /// Groups rebuild the pairs only when they hold this many bodies on average: a world of loose
 /// bodies, one a group, would be swept along one axis, which grows as `n^1.5`.
@@ -101,7 +102,7 @@ struct BodyLanes {
 
 impl BodyLanes {
     fn fill(&mut self, proxies: &[Proxy]) {
-        let padded = proxies.len() + Wide::W;
+        let padded = proxies.len() + MAX_LANES;
         for k in 0..3 {
             // a large proxy (kept apart, paired by the large pass) meets nothing here
             let min = |p: &Proxy| if p.large { f32::INFINITY } else { p.fat.min[k] };
@@ -132,17 +133,23 @@ impl BodyLanes {
 
     /// The bounds and codes of bodies `from..from + W`, those at or past `end` masked off.
     #[inline(always)]
-    fn lanes(&self, from: usize, end: usize) -> Lanes {
-        let load = |v: &[f32]| {
-            let lanes = &v[from..from + Wide::W];
-            Wide::from_fn(|k| lanes[k])
-        };
+    fn lanes<L: Lane>(&self, from: usize, end: usize) -> Lanes<L> {
+        // (no closures: their bodies would compile outside `Lane::dispatch`'s function)
+        let (min, max) = (&self.min, &self.max);
         Lanes {
-            min: [0, 1, 2].map(|k| load(&self.min[k])),
-            max: [0, 1, 2].map(|k| load(&self.max[k])),
-            code: load(&self.code),
+            min: [
+                L::load(&min[0][from..]),
+                L::load(&min[1][from..]),
+                L::load(&min[2][from..]),
+            ],
+            max: [
+                L::load(&max[0][from..]),
+                L::load(&max[1][from..]),
+                L::load(&max[2][from..]),
+            ],
+            code: L::load(&self.code[from..]),
             within: match end - from {
-                n if n >= Wide::W => u32::MAX >> (32 - Wide::W),
+                n if n >= L::W => u32::MAX >> (32 - L::W),
                 n => (1u32 << n) - 1,
             },
         }
@@ -150,72 +157,62 @@ impl BodyLanes {
 
     /// The bits of `lanes`' bodies whose boxes overlap body `a`'s and that make a pair with it.
     #[inline(always)]
-    fn meeting(&self, lanes: &Lanes, a: usize) -> u32 {
-        let all_codes = Wide::splat(code_lane(ALL_CODE_BITS));
-        let mut overlap = all_codes.le(lanes.code | Wide::splat(self.code[a]));
+    fn meeting<L: Lane>(&self, lanes: &Lanes<L>, a: usize) -> u32 {
+        let all_codes = L::splat(code_lane(ALL_CODE_BITS));
+        let mut overlap = all_codes.le(lanes.code | L::splat(self.code[a]));
         for k in 0..3 {
             overlap = overlap
-                & lanes.min[k].le(Wide::splat(self.max[k][a]))
-                & Wide::splat(self.min[k][a]).le(lanes.max[k]);
+                & lanes.min[k].le(L::splat(self.max[k][a]))
+                & L::splat(self.min[k][a]).le(lanes.max[k]);
         }
         overlap.bitmask() & lanes.within
     }
 }
 
 /// W bodies' bounds and codes ([`BodyLanes::lanes`]).
-struct Lanes {
-    min: [Wide; 3],
-    max: [Wide; 3],
-    code: Wide,
+struct Lanes<L> {
+    min: [L; 3],
+    max: [L; 3],
+    code: L,
     within: u32,
 }
 
-/// Appends `(a, base + k)` for each set bit `k` of `bits`, in order. With AVX-512 the lanes'
-/// pairs are compressed in registers and stored whole, with no branch per pair: a branch per
-/// bit, mispredicted as often as not, was most of the rebuild's time.
-#[inline(always)]
-fn push_pairs(out: &mut Vec<[u32; 2]>, a: u32, base: u32, bits: u32) {
-    #[cfg(all(target_arch = "x86_64", target_feature = "avx512f"))]
-    {
-        use std::arch::x86_64::*;
-        out.reserve(16);
-        let len = out.len();
-        // each pair as one u64: `a` in the low half (the array's first, on this little-endian
-        // target), `base + k` in the high half
-        let pair = |k: i64| ((base as i64 + k) << 32) | a as i64;
-        // SAFETY: the build has AVX-512 (cfg); `reserve` made room for 16 pairs past `len`; each
-        // store writes 8 u64s (8 pairs' bytes, `[u32; 2]` having no padding) from where the
-        // last one's pairs end, so the first `count_ones` past `len` are the pairs set, written.
-        unsafe {
-            let to = out.as_mut_ptr().add(len) as *mut __m512i;
-            let low = _mm512_set_epi64(
-                pair(7),
-                pair(6),
-                pair(5),
-                pair(4),
-                pair(3),
-                pair(2),
-                pair(1),
-                pair(0),
-            );
-            let high = _mm512_add_epi64(low, _mm512_set1_epi64(8 << 32));
-            let low_bits = bits as u8;
-            _mm512_storeu_si512(to, _mm512_maskz_compress_epi64(low_bits, low));
-            let next = (to as *mut [u32; 2]).add(low_bits.count_ones() as usize);
-            let high_bits = (bits >> 8) as u8;
-            _mm512_storeu_si512(
-                next as *mut __m512i,
-                _mm512_maskz_compress_epi64(high_bits, high),
-            );
-            out.set_len(len + bits.count_ones() as usize);
+/// The pairs of a run of spans ([`Layout::pairs_of_span`]), in one lane type.
+struct SpanPairs<'a> {
+    layout: &'a Layout,
+    spans: std::ops::Range<usize>,
+    proxies: &'a [Proxy],
+    joined: &'a Joined,
+    out: &'a mut ChunkOut,
+}
+
+impl<L: Lane> LaneWork<L> for SpanPairs<'_> {
+    type Output = ();
+    #[inline(always)]
+    fn run(self) {
+        let ChunkOut { pairs, scratch } = self.out;
+        for s in self.spans {
+            (self.layout).pairs_of_span::<L>(s, self.proxies, self.joined, scratch, pairs);
         }
     }
-    #[cfg(not(all(target_arch = "x86_64", target_feature = "avx512f")))]
-    {
-        let mut bits = bits;
-        while bits != 0 {
-            out.push([a, base + bits.trailing_zeros()]);
-            bits &= bits - 1;
+}
+
+/// The overlapping group pairs from the sorted group boxes ([`Layout::sweep_spans`]).
+struct SweepPairs<'a> {
+    lanes: &'a CellLanes,
+    sweep: &'a [CellBox],
+    pairs: &'a mut Vec<(u32, u32)>,
+}
+
+impl<L: Lane> LaneWork<L> for SweepPairs<'_> {
+    type Output = ();
+    #[inline(always)]
+    fn run(self) {
+        for (i, a) in self.sweep.iter().enumerate() {
+            self.lanes.meeting::<L>(i, a.fat.max[0], |j| {
+                let (s, t) = (a.index, self.sweep[j].index);
+                self.pairs.push((s.min(t), s.max(t)));
+            });
         }
     }
 }
@@ -255,7 +252,7 @@ impl Layout {
 
     /// The overlapping group pairs: the groups' boxes swept along the axis their centres
     /// spread most on, W at a time in lanes ([`CellLanes::meeting`]).
-    fn sweep_spans(&mut self, proxies: &[Proxy]) {
+    fn sweep_spans(&mut self, proxies: &[Proxy], width: LaneWidth) {
         self.sweep.clear();
         for (index, span) in (0..).zip(&self.spans) {
             let members = &proxies[span.start as usize..span.end as usize];
@@ -297,13 +294,12 @@ impl Layout {
             .sort_unstable_by(|a, b| a.fat.min[0].total_cmp(&b.fat.min[0]));
         self.lanes.fill(&self.sweep);
         self.pairs.clear();
-        let (sweep, pairs) = (&self.sweep, &mut self.pairs);
-        for (i, a) in sweep.iter().enumerate() {
-            self.lanes.meeting(i, a.fat.max[0], |j| {
-                let (s, t) = (a.index, sweep[j].index);
-                pairs.push((s.min(t), s.max(t)));
-            });
-        }
+        let work = SweepPairs {
+            lanes: &self.lanes,
+            sweep: &self.sweep,
+            pairs: &mut self.pairs,
+        };
+        with_lane_type!(width, L => L::dispatch(work))
     }
 
     /// Each span's overlapping spans after it, ascending ([`Self::neighbours`]).
@@ -339,7 +335,8 @@ impl Layout {
     /// (their bounds loaded once) into `scratch`'s masks, a row of words per body; then each
     /// body's pairs are read out of its row, skipping the empty words (three in four on the
     /// landing rain) W at a time.
-    fn pairs_of_span(
+    #[inline(always)]
+    fn pairs_of_span<L: Lane>(
         &self,
         s: usize,
         proxies: &[Proxy],
@@ -355,19 +352,19 @@ impl Layout {
         let Scratch { words, masks } = scratch;
         words.clear();
         for group in std::iter::once(span).chain(others) {
-            let bases = (group.start..group.end).step_by(Wide::W);
+            let bases = (group.start..group.end).step_by(L::W);
             words.extend(bases.map(|base| [base, group.end]));
         }
         let (members, row) = (span.start as usize..span.end as usize, words.len());
         masks.clear();
         masks.resize(members.len() * row, 0);
         for (w, &[base, end]) in words.iter().enumerate() {
-            let lanes = self.bodies.lanes(base as usize, end as usize);
+            let lanes = self.bodies.lanes::<L>(base as usize, end as usize);
             for (i, a) in members.clone().enumerate() {
                 masks[i * row + w] = self.bodies.meeting(&lanes, a);
             }
         }
-        let own_words = (members.len()).div_ceil(Wide::W);
+        let own_words = (members.len()).div_ceil(L::W);
         for (i, a) in members.enumerate() {
             if proxies[a].large {
                 continue;
@@ -378,7 +375,7 @@ impl Layout {
             for (&[base, _], &mask) in words.iter().zip(masks).take(own_words) {
                 let after = match a.checked_sub(base as usize) {
                     None => u32::MAX,
-                    Some(d) if d >= Wide::W => 0,
+                    Some(d) if d >= L::W => 0,
                     Some(d) => !((2u32 << d) - 1),
                 };
                 let mut bits = mask & after;
@@ -392,13 +389,13 @@ impl Layout {
             }
             // the later groups' words that hold a partner
             let (words, masks) = (&words[own_words..], &masks[own_words..]);
-            for (c, chunk) in masks.chunks(Wide::W).enumerate() {
+            for (c, chunk) in masks.chunks(L::W).enumerate() {
                 let nonzero = chunk.iter().enumerate();
                 let mut held = nonzero.fold(0u32, |bits, (k, &m)| bits | ((m != 0) as u32) << k);
                 while held != 0 {
                     let w = held.trailing_zeros() as usize;
                     held &= held - 1;
-                    push_pairs(out, a as u32, words[c * Wide::W + w][0], chunk[w]);
+                    L::push_pairs(out, a as u32, words[c * L::W + w][0], chunk[w]);
                 }
             }
         }
@@ -418,7 +415,8 @@ impl BroadPhase {
             return false;
         }
         layout.bodies.fill(&self.proxies);
-        layout.sweep_spans(&self.proxies);
+        let width = self.lane_width;
+        layout.sweep_spans(&self.proxies, width);
         layout.list_neighbours();
         let threads = rayon::current_num_threads();
         let chunks = match threads > 1 && self.proxies.len() >= PARALLEL_GROUPS {
@@ -438,9 +436,15 @@ impl BroadPhase {
         let (proxies, joined) = (&self.proxies, &self.joined);
         let run = |c: usize, out: &mut ChunkOut| {
             out.pairs.clear();
-            for s in bound(c)..bound(c + 1) {
-                layout.pairs_of_span(s, proxies, joined, &mut out.scratch, &mut out.pairs);
-            }
+            let spans = bound(c)..bound(c + 1);
+            let work = SpanPairs {
+                layout,
+                spans,
+                proxies,
+                joined,
+                out,
+            };
+            with_lane_type!(width, L => L::dispatch(work))
         };
         if chunks > 1 {
             use rayon::prelude::*;

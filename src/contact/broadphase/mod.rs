@@ -188,6 +188,8 @@ struct CellLanes {
 /// Reused storage, so the step does not allocate once warmed up.
 #[derive(Clone, Debug, Default)]
 pub struct BroadPhase {
+    /// The lane width of the box tests (the pairs are the same at every width).
+    pub(crate) lane_width: crate::lanes::LaneWidth,
     proxies: Vec<Proxy>,
     /// Each proxy's tight box this step (apart: the report reads only these).
     tight: Vec<Aabb>,

@@ -7,7 +7,8 @@ use super::grid::{cell_span, fill_column, for_each_cell, sort_entries, KEY_MASK}
 use super::pair_sort::{sort_pairs, IndexRuns};
 use super::{gaps, BroadPhase, CellBox, CellLanes, ChunkPairs, Joined, Proxy};
 use super::{CELL_FACTOR, COUNTED_SORT, LARGE_CELLS, PARALLEL_SORT, PARALLEL_SWEEP};
-use crate::lanes::{Lane, Wide};
+use crate::lanes::{Lane, LaneWidth, LaneWork, MAX_LANES};
+use crate::with_lane_type;
 
 impl BroadPhase {
     /// Refreshes every fat box and finds every fat pair: by groups where the bodies come in
@@ -47,6 +48,7 @@ impl BroadPhase {
         let entries = &self.entries;
         let bounds = &self.bounds;
         let joined = &self.joined;
+        let width = self.lane_width;
         if chunks > 1 {
             use rayon::prelude::*;
             self.chunk_pairs[..chunks]
@@ -54,10 +56,17 @@ impl BroadPhase {
                 .enumerate()
                 .for_each(|(c, out)| {
                     let entries = &entries[bounds[c]..bounds[c + 1]];
-                    cell_pairs(entries, proxies, joined, runs, out)
+                    cell_pairs(width, entries, proxies, joined, runs, out)
                 });
         } else {
-            cell_pairs(entries, proxies, joined, runs, &mut self.chunk_pairs[0]);
+            cell_pairs(
+                width,
+                entries,
+                proxies,
+                joined,
+                runs,
+                &mut self.chunk_pairs[0],
+            );
         }
         let parts = &self.chunk_pairs[..chunks];
         let sorted = (&mut self.fat_pairs, &mut self.merged);
@@ -157,6 +166,50 @@ impl BroadPhase {
 /// rain's grid (rod, a probe's perf samples of the broad phase alone), the cell and flag test
 /// in lanes took 14% off the sweep, and the group test about 15% more.
 fn cell_pairs(
+    width: LaneWidth,
+    entries: &[(u64, u32)],
+    proxies: &[Proxy],
+    joined: &Joined,
+    runs: IndexRuns,
+    out: &mut ChunkPairs,
+) {
+    let work = CellPairs {
+        entries,
+        proxies,
+        joined,
+        runs,
+        out,
+    };
+    with_lane_type!(width, L => L::dispatch(work))
+}
+
+/// [`cell_pairs`]' arguments, run in one lane type.
+struct CellPairs<'a> {
+    entries: &'a [(u64, u32)],
+    proxies: &'a [Proxy],
+    joined: &'a Joined,
+    runs: IndexRuns,
+    out: &'a mut ChunkPairs,
+}
+
+impl<L: Lane> LaneWork<L> for CellPairs<'_> {
+    type Output = ();
+    #[inline(always)]
+    fn run(self) {
+        let CellPairs {
+            entries,
+            proxies,
+            joined,
+            runs,
+            out,
+        } = self;
+        cell_pairs_in::<L>(entries, proxies, joined, runs, out)
+    }
+}
+
+/// [`cell_pairs`] in lanes of `L`.
+#[inline(always)]
+fn cell_pairs_in<L: Lane>(
     entries: &[(u64, u32)],
     proxies: &[Proxy],
     joined: &Joined,
@@ -197,7 +250,7 @@ fn cell_pairs(
         group.sort_unstable_by(|a, b| a.fat.min[0].total_cmp(&b.fat.min[0]));
         out.lanes.fill(group);
         for (i, a) in group.iter().enumerate() {
-            out.lanes.meeting(i, a.fat.max[0], |j| {
+            out.lanes.meeting::<L>(i, a.fat.max[0], |j| {
                 let b = &group[j];
                 // (only bodies of one group can be joined: a crowd's pairs skip the lookup)
                 if a.group != b.group || !joined.contains(a.body, b.body) {
@@ -227,7 +280,7 @@ pub(super) fn code_lane(code: u8) -> f32 {
 impl CellLanes {
     /// The sorted `group`'s bounds, then a lane width of boxes that meet nothing.
     pub(super) fn fill(&mut self, group: &[CellBox]) {
-        let padded = group.len() + Wide::W;
+        let padded = group.len() + MAX_LANES;
         let column = |v: &mut Vec<f32>, bound: &dyn Fn(&CellBox) -> f32, pad: f32| {
             fill_column(v, group.iter().map(bound), padded, pad)
         };
@@ -247,28 +300,21 @@ impl CellLanes {
     /// moved or woken. Their codes together set all five bits ([`CellBox::code`]); tested in
     /// the lanes, as a branch per box it was mispredicted about every other time.
     #[inline(always)]
-    pub(super) fn meeting(&self, a: usize, a_ends: f32, mut meet: impl FnMut(usize)) {
-        let x_max = Wide::splat(a_ends);
-        let (y_min, y_max) = (Wide::splat(self.y_min[a]), Wide::splat(self.y_max[a]));
-        let (z_min, z_max) = (Wide::splat(self.z_min[a]), Wide::splat(self.z_max[a]));
-        let (code, all_codes) = (
-            Wide::splat(self.code[a]),
-            Wide::splat(code_lane(ALL_CODE_BITS)),
-        );
-        let all = u32::MAX >> (32 - Wide::W);
+    pub(super) fn meeting<L: Lane>(&self, a: usize, a_ends: f32, mut meet: impl FnMut(usize)) {
+        let x_max = L::splat(a_ends);
+        let (y_min, y_max) = (L::splat(self.y_min[a]), L::splat(self.y_max[a]));
+        let (z_min, z_max) = (L::splat(self.z_min[a]), L::splat(self.z_max[a]));
+        let (code, all_codes) = (L::splat(self.code[a]), L::splat(code_lane(ALL_CODE_BITS)));
+        let all = u32::MAX >> (32 - L::W);
         let mut base = a + 1;
         loop {
-            let load = |v: &[f32]| {
-                let lanes = &v[base..base + Wide::W];
-                Wide::from_fn(|k| lanes[k])
-            };
             // sorted by lower x: the lanes that start in time are a prefix
-            let started = load(&self.x_min).le(x_max).bitmask();
-            let overlap = load(&self.y_min).le(y_max)
-                & y_min.le(load(&self.y_max))
-                & load(&self.z_min).le(z_max)
-                & z_min.le(load(&self.z_max))
-                & all_codes.le(load(&self.code) | code);
+            let started = L::load(&self.x_min[base..]).le(x_max).bitmask();
+            let overlap = L::load(&self.y_min[base..]).le(y_max)
+                & y_min.le(L::load(&self.y_max[base..]))
+                & L::load(&self.z_min[base..]).le(z_max)
+                & z_min.le(L::load(&self.z_max[base..]))
+                & all_codes.le(L::load(&self.code[base..]) | code);
             let mut bits = overlap.bitmask() & started;
             while bits != 0 {
                 meet(base + bits.trailing_zeros() as usize);
@@ -277,7 +323,7 @@ impl CellLanes {
             if started != all {
                 return;
             }
-            base += Wide::W;
+            base += L::W;
         }
     }
 }

@@ -22,6 +22,7 @@ use super::round_lanes::{self, RoundPair, RoundTest};
 use super::{ContactPoint, PARALLEL_PAIRS};
 use crate::body::Body;
 use crate::constraint::Constraints;
+use crate::lanes::LaneWidth;
 use chunks::{chunk_starts, concatenate, each_chunk, ChunkOut};
 use pair::PairContext;
 use std::time::Instant;
@@ -45,6 +46,7 @@ pub struct Detection {
     /// pairs were built for.
     joined_for: Option<(u64, usize)>,
     profile: DetectionProfile,
+    lane_width: LaneWidth,
 }
 
 /// Where the last detection's wall time went, piece by piece (as Box2D's `b2Profile` splits
@@ -100,6 +102,13 @@ impl NarrowPhaseWork {
 }
 
 impl Detection {
+    /// Runs the lanes `width` at a time (the broad phase's box tests and the round pairs'
+    /// shape tests): the same points at every width.
+    pub fn set_lane_width(&mut self, width: LaneWidth) {
+        self.lane_width = width;
+        self.broad_phase.lane_width = width;
+    }
+
     /// Replaces last step's `points` with those at the current poses.
     pub fn detect(
         &mut self,
@@ -180,6 +189,7 @@ impl Detection {
         let mut bounds = self.broad_phase.take_gaps();
         let (broad_phase, others) = (&self.broad_phase, &self.others);
         let (motions, starts) = (&self.motions, &self.starts);
+        let lane_width = self.lane_width;
         // chunk c: candidates starts[c]..starts[c + 1] of the kept pairs followed by the others
         let run = |c: usize, out: &mut ChunkOut, bounds: &mut [f32]| {
             let start = Instant::now();
@@ -208,7 +218,8 @@ impl Detection {
             });
             out.round_pairs.extend(pairs);
             out.round_tests.clear();
-            round_lanes::test_pairs(found.colliders, &out.round_pairs, &mut out.round_tests);
+            let (pairs, tests) = (&out.round_pairs, &mut out.round_tests);
+            round_lanes::test_pairs(lane_width, found.colliders, pairs, tests);
             let tested_in_lanes = Instant::now();
             out.points.clear();
             // the round pairs are the tested ones in order: the next one is this pair's, if any
