@@ -68,7 +68,14 @@ fn decode_messages(path: &Path, strict: bool) -> Vec<Chunk> {
     chunks
 }
 
-/// Frames at which `entity` received a component whose name ends with `component`.
+/// Whether a component's full name (`"Points3D:labels"`) is `component` (`"labels"`, which
+/// `"Points3D:show_labels"` is not); any component for `""`.
+fn is_component(name: &str, component: &str) -> bool {
+    component.is_empty() || name.rsplit(':').next() == Some(component)
+}
+
+/// Frames at which `entity` received the component `component` (its name after the
+/// archetype's).
 pub fn frames_with(chunks: &[Chunk], entity: &str, component: &str) -> BTreeSet<i64> {
     let mut frames = BTreeSet::new();
     for chunk in chunks
@@ -77,7 +84,7 @@ pub fn frames_with(chunks: &[Chunk], entity: &str, component: &str) -> BTreeSet<
     {
         if !chunk
             .component_descriptors()
-            .any(|d| d.component.as_str().ends_with(component))
+            .any(|d| is_component(d.component.as_str(), component))
         {
             continue;
         }
@@ -95,7 +102,7 @@ pub fn static_texts(chunks: &[Chunk], entity: &str, component: &str) -> Vec<Stri
         .filter(|c| c.is_static() && c.entity_path().to_string() == format!("/{entity}"))
         .flat_map(|c| {
             let d = (c.component_descriptors())
-                .find(|d| d.component.as_str().ends_with(component))
+                .find(|d| is_component(d.component.as_str(), component))
                 .expect("the static chunk has the component");
             c.iter_slices::<String>(d.component)
                 .flatten()
