@@ -10,6 +10,7 @@ mod contacts;
 mod controllability;
 mod hinge;
 mod humanoid;
+mod io_faults;
 mod kinematics;
 mod lanes_contact;
 mod lanes_joint;
