@@ -155,7 +155,7 @@ pub(super) fn run_all(
         let result = load_scene(path, None, overrides).and_then(|mut scene| {
             // heavy scenes give the main job a shorter run (`ci_frames`), unless --frames
             if let (None, Some(n)) = (overrides.frames, scene.def.ci_frames) {
-                println!(
+                report!(
                     "{}: main job runs {n} of its {} frames (ci_frames; `rodlab run` runs all)",
                     scene.name(),
                     scene.def.frames
@@ -173,7 +173,7 @@ pub(super) fn run_all(
                 if variant.def.kinematics.is_some() {
                     record_kinematics_scene(&variant, &record::save_to(&out, &variant)?)
                         .map_err(|e| explain_write_failure(Some(&out), e))?;
-                    println!(
+                    report!(
                         "  -> {} ({:.1} s)",
                         out.display(),
                         started.elapsed().as_secs_f32()
@@ -183,7 +183,7 @@ pub(super) fn run_all(
                 let report = record_scene(&variant, record::save_to(&out, &variant)?)
                     .map_err(|e| explain_write_failure(Some(&out), e))?;
                 print_summary(&name, &variant, &report);
-                println!(
+                report!(
                     "  -> {} ({:.1} s)",
                     out.display(),
                     started.elapsed().as_secs_f32()
@@ -202,7 +202,7 @@ pub(super) fn run_all(
             Ok(())
         });
         if let Err(e) = result {
-            eprintln!("error: {e:#}");
+            note!("error: {e:#}");
             failures.push(path.display().to_string());
         }
     }
@@ -258,7 +258,7 @@ fn print_comparison(name_a: &str, a: &RunReport, name_b: &str, b: &RunReport) {
     let better = (0..frames)
         .filter(|&i| b.total_dislocation_cm[i] < a.total_dislocation_cm[i])
         .count();
-    println!(
+    report!(
         "  total dislocation, mean over frames: {name_a} {:.3} cm, {name_b} {:.3} cm; {name_b} below {name_a} in {:.1}% of frames",
         mean(a),
         mean(b),

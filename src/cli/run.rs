@@ -220,7 +220,7 @@ pub(super) fn run_one(
         (rec, guard, None)
     } else {
         let out = Path::new("recordings").join(format!("{name}.rrd"));
-        eprintln!("recording to {}", out.display());
+        note!("recording to {}", out.display());
         (record::save_to(&out, scene)?, Default::default(), Some(out))
     };
     if scene.def.kinematics.is_some() {

@@ -129,7 +129,7 @@ pub fn match_bend(args: &TuneArgs, scene: &Scene) -> anyhow::Result<Vec<Matched>
                 let Some(psi) = tune::chain3_psi(scene, n)? else {
                     bail!("--match chain3: the chain3 spine does not settle in {} frames at {n} iterations", scene.def.frames);
                 };
-                println!("  chain3 spine at {n} iterations settles at psi {psi:.4} rad");
+                report!("  chain3 spine at {n} iterations settles at psi {psi:.4} rad");
                 psi
             }
             (None, Some(other)) => bail!("--match {other}: only chain3 can be matched"),
@@ -145,7 +145,7 @@ pub fn match_bend(args: &TuneArgs, scene: &Scene) -> anyhow::Result<Vec<Matched>
             Some((v, psi)) => format!("{v:.5}{unit} (settles at {psi:.4} rad)"),
             None => "out of reach".into(),
         };
-        println!(
+        report!(
             "  psi {target:.4} rad at {n} iterations, {}: alpha_b {}, bend_stiffness {}",
             twist.label("twist"),
             show(alpha, ""),
@@ -177,7 +177,7 @@ fn print_equivalents(scene: &Scene, rows: &[TuneRow]) -> anyhow::Result<()> {
         return Ok(());
     }
     let twist = tune::scene_twist(scene)?;
-    println!(
+    report!(
         "  what alpha_b amounts to (dt {} s, {} substep(s), {}; measured: the stiffness that \
          settles where the alpha does):",
         scene.def.dt,
@@ -219,7 +219,7 @@ fn print_equivalents(scene: &Scene, rows: &[TuneRow]) -> anyhow::Result<()> {
                 format!("settles at psi {psi:.4} rad = bend_stiffness {k}")
             }
         };
-        println!("    alpha_b {alpha:<7} at {n:>3} iterations: {line}");
+        report!("    alpha_b {alpha:<7} at {n:>3} iterations: {line}");
     }
     Ok(())
 }
@@ -229,7 +229,7 @@ pub fn tune(args: &TuneArgs) -> anyhow::Result<()> {
     let scene = Scene::load(&args.scene)?;
     let name = scene.name();
     if args.match_psi.is_some() || args.match_spine.is_some() {
-        println!("== tune {name}: matching the bend");
+        report!("== tune {name}: matching the bend");
         match_bend(args, &scene)?;
         return Ok(());
     }
@@ -247,7 +247,7 @@ pub fn run_grid(scene: &Scene, config: &TuneConfig, out: &Path) -> anyhow::Resul
         .filter(|c| config.shard.takes(c.index))
         .cloned()
         .collect();
-    println!(
+    report!(
         "== tune {name}: {} of {} copies ({} bend x {} twist x {} iteration counts)",
         mine.len(),
         all.len(),
@@ -262,13 +262,19 @@ pub fn run_grid(scene: &Scene, config: &TuneConfig, out: &Path) -> anyhow::Resul
     let (rows, traces) = tune::run_grid(scene, config, &mut |frame, labs| {
         recorder.frame(frame, labs)
     })?;
-    println!(
+    report!(
         "  {:<50} {:>9} {:>9} {:>10} {:>9} {:>9} {:>9}",
-        "copy", "psi rad", "tau rad", "overshoot", "psi s", "tau s", "disl cm"
+        "copy",
+        "psi rad",
+        "tau rad",
+        "overshoot",
+        "psi s",
+        "tau s",
+        "disl cm"
     );
     for r in &rows {
         match &r.failed {
-            None => println!(
+            None => report!(
                 "  {:<50} {:>9.4} {:>9.4} {:>10.4} {:>9.2} {:>9.2} {:>9.4}",
                 r.copy.label(),
                 r.final_psi,
@@ -278,7 +284,7 @@ pub fn run_grid(scene: &Scene, config: &TuneConfig, out: &Path) -> anyhow::Resul
                 r.tau_settling_s,
                 r.mean_dislocation_cm
             ),
-            Some(e) => println!("  {:<50} failed: {e}", r.copy.label()),
+            Some(e) => report!("  {:<50} failed: {e}", r.copy.label()),
         }
     }
     let csv = tune::to_csv(&rows);
@@ -291,11 +297,11 @@ pub fn run_grid(scene: &Scene, config: &TuneConfig, out: &Path) -> anyhow::Resul
     let png = chart.to_png()?;
     write(stem.with_extension("png"), &png)?;
     recorder.finish(&traces, &rows, &csv, &png)?;
-    println!("  -> {} (and .csv, .svg, .png)", rrd.display());
+    report!("  -> {} (and .csv, .svg, .png)", rrd.display());
     if config.shard == Shard::ALL {
         print_equivalents(scene, &rows)?;
     } else {
-        println!("  (the alpha-to-stiffness equivalents are printed by an unsharded run)");
+        report!("  (the alpha-to-stiffness equivalents are printed by an unsharded run)");
     }
     Ok(rows)
 }

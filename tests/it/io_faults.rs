@@ -32,6 +32,32 @@ fn finish_within(mut child: Child, limit: Duration, what: &str) -> Output {
     child.wait_with_output().unwrap()
 }
 
+/// A closed stdout (`rodlab run ... | head -1`; here the pipe's reader is gone before the
+/// first line) stops the printing, not the run: no panic, exit code 0, and the recording holds
+/// every frame and its footer's state hash.
+#[test]
+fn a_closed_stdout_stops_the_reports_and_the_run_finishes_its_recording() {
+    let path = temp_path("closed_stdout.rrd");
+    let (reader, writer) = std::io::pipe().unwrap();
+    drop(reader);
+    // the controllability scene prints a row of residuals every 30 of its 300 frames
+    let child = Command::new(BIN)
+        .args(["run", &scene("controllability"), "--save"])
+        .arg(&path)
+        .stdout(writer)
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let output = finish_within(child, Duration::from_secs(60), "run | head -1");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(0), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    let chunks = decode(&path);
+    let frames = frames_with(&chunks, "metrics/dislocation_cm", "scalars");
+    assert_eq!(frames, (0..=300).collect::<BTreeSet<i64>>());
+    assert_eq!(static_texts(&chunks, "state_hash", "text").len(), 1);
+}
+
 /// Two SIGTERMs 10 ms apart (GNU `timeout` sends one to the child and one to its group), both
 /// within a frame (100 substeps make a frame long), are one request to stop: the run stops at
 /// the frame's end, prints its summary, finishes its recording (footer included) and exits
