@@ -13,7 +13,7 @@ use crate::shard::Shard;
 use crate::sim::{Overrides, RunReport};
 use crate::world::{ContactDetection, SolverKind};
 
-use super::run::{explain_write_failure, load_scene, record_kinematics_scene, record_scene};
+use super::run::{load_scene, record_kinematics_scene, record_scene};
 use super::summary::print_summary;
 use super::{layouts, stop, stress, sweep, tune};
 
@@ -171,8 +171,7 @@ pub(super) fn run_all(
                 let out = out_dir.join(format!("{name}.rrd"));
                 let started = std::time::Instant::now();
                 if variant.def.kinematics.is_some() {
-                    record_kinematics_scene(&variant, &record::save_to(&out, &variant)?)
-                        .map_err(|e| explain_write_failure(Some(&out), e))?;
+                    record_kinematics_scene(&variant, &record::save_to(&out, &variant)?)?;
                     report!(
                         "  -> {} ({:.1} s)",
                         out.display(),
@@ -180,8 +179,7 @@ pub(super) fn run_all(
                     );
                     continue;
                 }
-                let report = record_scene(&variant, record::save_to(&out, &variant)?)
-                    .map_err(|e| explain_write_failure(Some(&out), e))?;
+                let report = record_scene(&variant, record::save_to(&out, &variant)?)?;
                 print_summary(&name, &variant, &report);
                 report!(
                     "  -> {} ({:.1} s)",

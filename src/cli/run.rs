@@ -23,25 +23,6 @@ pub(super) fn rerun_sink_given(matches: &ArgMatches) -> bool {
         .any(|id| matches!(matches.value_source(id), Some(ValueSource::CommandLine)))
 }
 
-/// A run that failed because its recording could not be written names the file and, probed
-/// with a small write beside it, the OS error (a full disk: "No space left on device").
-pub(super) fn explain_write_failure(out: Option<&Path>, e: anyhow::Error) -> anyhow::Error {
-    let Some(out) = out.filter(|_| format!("{e:#}").contains("could not be written")) else {
-        return e;
-    };
-    let dir = out
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let probe = dir.join(format!(".rodlab-write-probe-{}", std::process::id()));
-    let os_error = match std::fs::write(&probe, [0u8; 65536]) {
-        Ok(()) => "a probe write beside it succeeded".to_string(),
-        Err(io) => io.to_string(),
-    };
-    let _ = std::fs::remove_file(&probe);
-    e.context(format!("writing {}: {os_error}", out.display()))
-}
-
 /// Refuses to write a recording over the scene file being run, or (unless `force`) over an
 /// existing file that is not an `.rrd`.
 pub(super) fn check_output(out: &Path, scene: &Path, force: bool) -> anyhow::Result<()> {
@@ -224,12 +205,10 @@ pub(super) fn run_one(
         (record::save_to(&out, scene)?, Default::default(), Some(out))
     };
     if scene.def.kinematics.is_some() {
-        return record_kinematics_scene(scene, &rec)
-            .map_err(|e| explain_write_failure(out.as_deref(), e));
+        return record_kinematics_scene(scene, &rec);
     }
     // no file: a viewer (--spawn, --connect) or a pipe, sent frame by frame
-    let report = record_scene_to(scene, rec, record_from, out.is_none())
-        .map_err(|e| explain_write_failure(out.as_deref(), e))?;
+    let report = record_scene_to(scene, rec, record_from, out.is_none())?;
     print_summary(&name, scene, &report);
     if stop::requested() {
         report!(

@@ -4,6 +4,7 @@
 //! and bounds its time, so a hang fails the test instead of stalling the suite.
 
 use std::collections::BTreeSet;
+use std::path::Path;
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
@@ -30,6 +31,95 @@ fn finish_within(mut child: Child, limit: Duration, what: &str) -> Output {
         std::thread::sleep(Duration::from_millis(20));
     }
     child.wait_with_output().unwrap()
+}
+
+/// `rodlab ARGS` through `sh` with files limited to `blocks` blocks (512 or 1024 bytes, as
+/// the shell counts them), SIGXFSZ ignored: every write past the limit fails with EFBIG
+/// ("File too large"), as every write to a full disk fails with ENOSPC.
+fn run_with_file_limit(blocks: u32, args: &[&str]) -> Child {
+    let quoted: Vec<String> = args.iter().map(|a| format!("'{a}'")).collect();
+    let script = format!(
+        "trap '' XFSZ; ulimit -f {blocks}; exec '{BIN}' {}",
+        quoted.join(" ")
+    );
+    Command::new("sh")
+        .args(["-c", &script])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap()
+}
+
+/// A recording that cannot be written (the passive-bending run writes 0.7 MB; the limits cut
+/// it from its header to near its footer) ends the run within seconds, every time, with an
+/// error naming the file and the OS error, and a non-zero exit code.
+#[test]
+fn a_full_disk_ends_the_run_with_the_os_error_every_time() {
+    let out = temp_path("full_disk.rrd");
+    let out_text = out.to_str().unwrap();
+    for blocks in [1, 16, 64, 150, 300, 450, 600, 690] {
+        let child = run_with_file_limit(
+            blocks,
+            &["run", &scene("passive_bending"), "--save", out_text],
+        );
+        let what = format!("run with a file limit of {blocks} blocks");
+        let output = finish_within(child, Duration::from_secs(20), &what);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(1), "{what}: {stderr}");
+        assert!(
+            stderr.contains("File too large") && stderr.contains(out_text),
+            "{what}: {stderr}"
+        );
+    }
+}
+
+/// The main job (`all --out`) fails the same way, for each scene it cannot write.
+#[test]
+fn a_full_disk_ends_the_main_job_with_the_os_error() {
+    let scenes = temp_path("full_disk_scenes");
+    std::fs::create_dir_all(&scenes).unwrap();
+    std::fs::copy(
+        scene("passive_bending"),
+        scenes.join("passive_bending.toml"),
+    )
+    .unwrap();
+    let out = temp_path("full_disk_out");
+    let child = run_with_file_limit(
+        200,
+        &[
+            "all",
+            "--scenes",
+            scenes.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    let output = finish_within(child, Duration::from_secs(20), "all --out");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("passive_bending.rrd: File too large"),
+        "{stderr}"
+    );
+}
+
+/// A device where every write fails (`/dev/full`, ENOSPC) fails at once, naming the error.
+#[test]
+fn a_device_that_is_always_full_fails_at_once() {
+    if !Path::new("/dev/full").exists() {
+        return; // not Linux: the file-limit tests above cover the same path
+    }
+    let child = Command::new(BIN)
+        .args(["run", &scene("passive_bending"), "--force", "--save"])
+        .arg("/dev/full")
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let output = finish_within(child, Duration::from_secs(20), "run --save /dev/full");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("No space left on device"), "{stderr}");
 }
 
 /// A closed stdout (`rodlab run ... | head -1`; here the pipe's reader is gone before the
