@@ -24,6 +24,7 @@ mod ragdoll_rain;
 mod recording;
 mod rod;
 mod rod_stiffness;
+mod save_guard;
 mod scalar_simd;
 mod scene_errors;
 mod scene_fuzz;
