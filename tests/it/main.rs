@@ -28,6 +28,7 @@ mod save_guard;
 mod scalar_simd;
 mod scene_errors;
 mod scene_fuzz;
+mod scene_limits;
 mod skeleton;
 mod spin_limit;
 mod stress;

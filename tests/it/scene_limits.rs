@@ -1,0 +1,113 @@
+//! Scenes that pass or fail `check` for the right reason, and quickly: the `[[tile]]` groups'
+//! bodies bounded all together, a rod's normal finite, a bad setting blamed on itself.
+
+use std::time::{Duration, Instant};
+
+use rodlab::scene::bounds::MAX_TILE_BODIES;
+use rodlab::scene::Scene;
+
+/// `groups` `[[tile]]` groups of one box, `per_group` copies each.
+fn tiled_boxes(groups: usize, per_group: u64) -> String {
+    let mut text = String::from("dt = 0.01\nframes = 10\n");
+    for g in 0..groups {
+        text += &format!(
+            "\n[[tile]]\nname = \"g{g}\"\nrepeat = [{per_group}, 1]\nspacing = [1.0, 1.0]\n\
+             [[tile.body]]\nname = \"b\"\nkind = \"fixed\"\nshape = \"box\"\n\
+             half_extents = [0.1, 0.1, 0.1]\n"
+        );
+    }
+    text
+}
+
+/// Three groups within the bound each but past it together are refused, at the group that
+/// passes it, at once; groups at the bound together check (and build) within seconds.
+#[test]
+fn tile_groups_are_bounded_all_together_and_check_quickly() {
+    let started = Instant::now();
+    let text = tiled_boxes(3, MAX_TILE_BODIES);
+    let error = Scene::parse("scenes/t.toml", &text)
+        .unwrap_err()
+        .to_string();
+    let repeats = text
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| l.starts_with("repeat"));
+    let line = repeats.map(|(i, _)| i + 1).nth(1).unwrap();
+    assert!(
+        error.starts_with(&format!("scenes/t.toml:{line}: tile[1].repeat: ")),
+        "{error}"
+    );
+    assert!(error.contains("together"), "{error}");
+    let at_bound = Scene::parse("scenes/t.toml", &tiled_boxes(3, MAX_TILE_BODIES / 3)).unwrap();
+    let lab = at_bound.build().unwrap();
+    assert_eq!(lab.world.bodies.len() as u64, MAX_TILE_BODIES / 3 * 3);
+    let elapsed = started.elapsed();
+    assert!(elapsed < Duration::from_secs(20), "{elapsed:?}");
+}
+
+const TWO_SPHERES_AND_A_ROD: &str = r#"
+dt = 0.01
+frames = 10
+
+[[body]]
+name = "a"
+shape = "sphere"
+radius = 0.1
+mass = 1.0
+
+[[body]]
+name = "b"
+shape = "sphere"
+radius = 0.1
+mass = 1.0
+position = [0.0, 1.0, 0.0]
+
+[[rod]]
+name = "r"
+a = "a"
+b = "b"
+normal = [0.0, 0.0, 1.0]
+"#;
+
+/// A rod's normal with NaN or an infinity has no direction: refused at its line.
+#[test]
+fn a_rods_normal_must_be_finite() {
+    let line = TWO_SPHERES_AND_A_ROD
+        .lines()
+        .position(|l| l.starts_with("normal"))
+        .unwrap()
+        + 1;
+    for bad in ["nan", "inf", "-inf"] {
+        let text = TWO_SPHERES_AND_A_ROD.replace("[0.0, 0.0, 1.0]", &format!("[{bad}, 0.0, 1.0]"));
+        let error = Scene::parse("scenes/r.toml", &text)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            error.starts_with(&format!(
+                "scenes/r.toml:{line}: rod[0].normal: must be finite"
+            )),
+            "{bad}: {error}"
+        );
+    }
+    assert!(Scene::parse("scenes/r.toml", TWO_SPHERES_AND_A_ROD).is_ok());
+}
+
+/// `max_speed = -1` in the rain is blamed on `max_speed` at its own line, not on the first
+/// body whose velocity it bounds (a tile body's, at another line).
+#[test]
+fn a_bad_setting_is_blamed_on_itself() {
+    let rain = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenes/ragdoll_rain.toml"
+    ))
+    .unwrap();
+    let text = rain.replacen("iterations = 2\n", "iterations = 2\nmax_speed = -1\n", 1);
+    let line = text.lines().position(|l| l == "max_speed = -1").unwrap() + 1;
+    let error = Scene::parse("scenes/rain.toml", &text)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.starts_with(&format!("scenes/rain.toml:{line}: max_speed: ")),
+        "{error}"
+    );
+}
