@@ -222,6 +222,8 @@ fn variants(scene: &Scene, overrides: &Overrides) -> anyhow::Result<Vec<Scene>> 
     for name in scene.variant_names() {
         let mut method = scene.variant(name)?;
         overrides.apply(&mut method.def);
+        (overrides.check_on(&method))
+            .map_err(|m| anyhow::anyhow!("{}: [[variant]] {name}: {m}", scene.path.display()))?;
         methods.push(method);
     }
     if scene.def.spines.is_empty() || overrides.spine.is_some() {

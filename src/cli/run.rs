@@ -119,8 +119,7 @@ pub fn load_scene(
         scene = scene.variant(name)?;
     }
     overrides.apply(&mut scene.def);
-    (overrides.check_applied(&scene.def))
-        .map_err(|m| anyhow::anyhow!("{}: {m}", path.display()))?;
+    (overrides.check_on(&scene)).map_err(|m| anyhow::anyhow!("{}: {m}", path.display()))?;
     Ok(scene)
 }
 

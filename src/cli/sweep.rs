@@ -30,6 +30,12 @@ pub(super) fn sweep(
         .filter(|(i, _)| shard.takes(*i))
         .map(|(_, o)| o)
         .collect();
+    // every combination within the scene's bounds before the first run
+    for overrides in &combinations {
+        let mut applied = scene.clone();
+        overrides.apply(&mut applied.def);
+        (overrides.check_on(&applied)).map_err(|m| anyhow::anyhow!("{}: {m}", path.display()))?;
+    }
     let machine = sweep::machine_name();
     let peer_runs = if peer.is_some() {
         let count = config.iterations.len() * config.dts.len().max(1);

@@ -10,6 +10,7 @@ use rayon::prelude::*;
 use super::parse::{non_negative, parse_choice, positive_stiffness, unit_interval};
 use crate::ragdoll::SpineKind;
 use crate::record::tune::TuneRecorder;
+use crate::scene::bounds::{MAX_FRAMES, MAX_ITERATIONS};
 use crate::scene::Scene;
 use crate::tune::{self, MatchBy, RodSetting, Shard, Softness, TuneConfig, TuneRow};
 
@@ -38,10 +39,11 @@ pub struct TuneArgs {
     #[arg(long, value_parser = non_negative, requires = "twist_stiffness")]
     pub twist_damping: Option<f32>,
     /// Iteration counts, a third axis of the grid (default the scene's).
-    #[arg(long, value_delimiter = ',', value_parser = clap::value_parser!(u32).range(1..))]
+    #[arg(long, value_delimiter = ',',
+          value_parser = clap::value_parser!(u32).range(1..=MAX_ITERATIONS as i64))]
     pub iterations: Vec<u32>,
     /// Frames per copy (default the scene's).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=MAX_FRAMES as i64))]
     pub frames: Option<u32>,
     /// Angular velocity (rad/s) about the rod's tangent given to the chest at the start.
     #[arg(long, default_value_t = 2.0)]

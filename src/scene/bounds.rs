@@ -12,6 +12,8 @@ pub const MAX_ITERATIONS: u32 = 10_000;
 pub const MAX_SUBSTEPS: u32 = 1_000;
 /// Frames per run, at most (46 h at 60 Hz).
 pub const MAX_FRAMES: u32 = 10_000_000;
+/// Worker threads of the solver's pool, at most (`--threads`).
+pub const MAX_THREADS: u64 = 1024;
 /// The longest time step (s).
 pub const MAX_DT: f32 = 1.0;
 /// Ragdolls a `[drop]` block makes, at most.

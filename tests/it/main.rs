@@ -15,6 +15,7 @@ mod kinematics;
 mod lanes_contact;
 mod lanes_joint;
 mod lanes_rod;
+mod override_bounds;
 mod passive_bending;
 #[cfg(feature = "rapier")]
 mod peer;
