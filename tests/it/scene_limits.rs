@@ -1,10 +1,15 @@
 //! Scenes that pass or fail `check` for the right reason, and quickly: the `[[tile]]` groups'
-//! bodies bounded all together, a rod's normal finite, a bad setting blamed on itself.
+//! bodies bounded all together, a rod's normal finite, a bad setting blamed on itself; and a
+//! valid scene whose run explodes (the rain at dt = 1 s) stopped with the usual error before
+//! its memory runs away.
 
 use std::time::{Duration, Instant};
 
 use rodlab::scene::bounds::MAX_TILE_BODIES;
 use rodlab::scene::Scene;
+use rodlab::sim::{self, NoObserver, Overrides};
+
+use crate::common::{decode, frames_with, temp_path};
 
 /// `groups` `[[tile]]` groups of one box, `per_group` copies each.
 fn tiled_boxes(groups: usize, per_group: u64) -> String {
@@ -110,4 +115,54 @@ fn a_bad_setting_is_blamed_on_itself() {
         error.starts_with(&format!("scenes/rain.toml:{line}: max_speed: ")),
         "{error}"
     );
+}
+
+/// The rain at dt = 1 s passes `check` (every value is within its bound), and its bodies
+/// sweep metres through each other in a step: the run stops with the usual error (frame,
+/// body, constraint) within two frames instead of growing gigabytes of contact pairs.
+#[test]
+fn the_rain_at_a_one_second_step_stops_with_the_usual_error() {
+    let mut scene = Scene::load(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenes/ragdoll_rain.toml"
+    ))
+    .unwrap();
+    Overrides {
+        dt: Some(1.0),
+        ..Default::default()
+    }
+    .apply(&mut scene.def);
+    let mut lab = scene.build().unwrap();
+    let error = sim::run(&mut lab, 10, &mut NoObserver).unwrap_err();
+    let error = error
+        .downcast_ref::<rodlab::world::SimulationError>()
+        .expect("a simulation error");
+    assert!(error.frame <= 2, "{error}");
+    assert!(error.constraint.is_some(), "{error}");
+    assert!(error.reason.starts_with("exploded"), "{error}");
+}
+
+/// The same run from the command line, its memory bounded at 2 GB: the usual error and exit
+/// code 1 (not an abort), and the recording up to the failing frame stays readable.
+#[test]
+fn the_rain_at_a_one_second_step_records_up_to_its_failure() {
+    let path = temp_path("rain_dt1.rrd");
+    let script = format!(
+        "ulimit -v 2000000; exec '{}' run '{}/scenes/ragdoll_rain.toml' --dt 1 --save '{}'",
+        env!("CARGO_BIN_EXE_rodlab"),
+        env!("CARGO_MANIFEST_DIR"),
+        path.display()
+    );
+    let output = std::process::Command::new("sh")
+        .args(["-c", &script])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("simulation stopped") && stderr.contains("exploded"),
+        "{stderr}"
+    );
+    let frames = frames_with(&decode(&path), "world/ragdolls/capsules", "translations");
+    assert!(frames.contains(&0) && frames.len() <= 2, "{frames:?}");
 }

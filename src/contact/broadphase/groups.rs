@@ -23,7 +23,7 @@
 
 use super::grid::{fill_column, Aabb};
 use super::rebuild::{code_lane, ALL_CODE_BITS, IN_EVERY_CELL};
-use super::{BroadPhase, CellBox, CellLanes, Joined, Proxy};
+use super::{BroadPhase, Budget, CellBox, CellLanes, Joined, Proxy};
 use crate::lanes::{Lane, Wide};
 
 /// Groups rebuild the pairs only when they hold this many bodies on average: a world of loose
@@ -409,7 +409,7 @@ impl BroadPhase {
     /// Rebuilds the fat pairs group by group (see the module docs) from the fat boxes
     /// [`Self::refresh_boxes`] set. Returns false, with the pairs untouched, where groups do
     /// not apply: a group's proxies are not consecutive, or the groups are too small.
-    pub(super) fn rebuild_by_groups(&mut self) -> bool {
+    pub(super) fn rebuild_by_groups(&mut self, budget: &Budget) -> bool {
         let Groups {
             layout,
             chunks: outs,
@@ -438,9 +438,17 @@ impl BroadPhase {
         let (proxies, joined) = (&self.proxies, &self.joined);
         let run = |c: usize, out: &mut ChunkOut| {
             out.pairs.clear();
+            let mut paid = 0;
             for s in bound(c)..bound(c + 1) {
                 layout.pairs_of_span(s, proxies, joined, &mut out.scratch, &mut out.pairs);
+                if out.pairs.len() - paid >= Budget::BATCH {
+                    if !budget.take(out.pairs.len() - paid) {
+                        return;
+                    }
+                    paid = out.pairs.len();
+                }
             }
+            budget.take(out.pairs.len() - paid);
         };
         if chunks > 1 {
             use rayon::prelude::*;
@@ -448,6 +456,9 @@ impl BroadPhase {
             each.for_each(|(c, out)| run(c, out));
         } else {
             run(0, &mut outs[0]);
+        }
+        if budget.spent() {
+            return true; // no pairs: the caller keeps none
         }
         let total = outs[..chunks].iter().map(|c| c.pairs.len()).sum();
         self.fat_pairs.resize(total, (0, 0)); // (every pair is written over)

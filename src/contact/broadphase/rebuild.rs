@@ -5,7 +5,7 @@
 
 use super::grid::{cell_span, fill_column, for_each_cell, sort_entries, KEY_MASK};
 use super::pair_sort::{sort_pairs, IndexRuns};
-use super::{gaps, BroadPhase, CellBox, CellLanes, ChunkPairs, Joined, Proxy};
+use super::{gaps, BroadPhase, Budget, CellBox, CellLanes, ChunkPairs, Joined, Proxy};
 use super::{CELL_FACTOR, COUNTED_SORT, LARGE_CELLS, PARALLEL_SORT, PARALLEL_SWEEP};
 use crate::lanes::{Lane, Wide};
 
@@ -17,10 +17,17 @@ impl BroadPhase {
         self.refresh_boxes();
         std::mem::swap(&mut self.fat_pairs, &mut self.old_pairs);
         std::mem::swap(&mut self.gaps, &mut self.old_gaps);
-        self.grid_stale = !self.grid_only && self.rebuild_by_groups();
+        let budget = Budget::new(self.pair_budget);
+        self.grid_stale = !self.grid_only && self.rebuild_by_groups(&budget);
         if !self.grid_stale {
             self.enter_entries();
-            self.sweep_cells();
+            self.sweep_cells(&budget);
+        }
+        if budget.spent() {
+            // no pairs, and the next update rebuilds them
+            self.fat_pairs.clear();
+            self.overflows += 1;
+            self.joined_changed = true;
         }
         gaps::carry(
             &self.old_pairs,
@@ -32,7 +39,7 @@ impl BroadPhase {
 
     /// The fat pairs from the grid: each cell's boxes swept on several threads, the pairs
     /// sorted.
-    fn sweep_cells(&mut self) {
+    fn sweep_cells(&mut self, budget: &Budget) {
         let threads = rayon::current_num_threads();
         let chunks = if threads > 1 && self.entries.len() >= PARALLEL_SWEEP {
             4 * threads
@@ -54,10 +61,14 @@ impl BroadPhase {
                 .enumerate()
                 .for_each(|(c, out)| {
                     let entries = &entries[bounds[c]..bounds[c + 1]];
-                    cell_pairs(entries, proxies, joined, runs, out)
+                    cell_pairs(entries, proxies, joined, runs, budget, out)
                 });
         } else {
-            cell_pairs(entries, proxies, joined, runs, &mut self.chunk_pairs[0]);
+            let out = &mut self.chunk_pairs[0];
+            cell_pairs(entries, proxies, joined, runs, budget, out);
+        }
+        if budget.spent() {
+            return;
         }
         let parts = &self.chunk_pairs[..chunks];
         let sorted = (&mut self.fat_pairs, &mut self.merged);
@@ -161,6 +172,7 @@ fn cell_pairs(
     proxies: &[Proxy],
     joined: &Joined,
     runs: IndexRuns,
+    budget: &Budget,
     out: &mut ChunkPairs,
 ) {
     // (grown, never shrunk: the runs' lists keep their storage from rebuild to rebuild)
@@ -168,6 +180,7 @@ fn cell_pairs(
         out.runs.resize_with(runs.count(), Vec::new);
     }
     out.runs[..runs.count()].iter_mut().for_each(Vec::clear);
+    let mut unpaid = 0;
     let mut start = 0;
     while start < entries.len() {
         let cell_key = entries[start].0;
@@ -203,11 +216,18 @@ fn cell_pairs(
                 if a.group != b.group || !joined.contains(a.body, b.body) {
                     let (low, high) = (a.index.min(b.index), a.index.max(b.index));
                     out.runs[runs.of(low)].push((low, high));
+                    unpaid += 1;
                 }
             });
+            if unpaid >= Budget::BATCH {
+                if !budget.take(std::mem::take(&mut unpaid)) {
+                    return;
+                }
+            }
         }
         start = end;
     }
+    budget.take(unpaid);
 }
 
 /// [`CellBox::code`]'s five bits.
