@@ -60,7 +60,8 @@ pub enum Command {
         /// a smaller file of how a long run ends.
         #[arg(long, value_parser = non_negative, default_value_t = 0.0)]
         record_from: f32,
-        /// Let --save write over an existing file that is not an .rrd (never over the scene).
+        /// Let --save write over an existing path that is not a recording of its own: a symbolic
+        /// link, a file with other hard links, or a file without Rerun's header (never the scene).
         #[arg(long)]
         force: bool,
         /// Settings that override the scene's.
