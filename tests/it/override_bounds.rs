@@ -81,6 +81,9 @@ fn sweep_values_past_the_scene_bounds_are_refused_naming_the_flag() {
     }
 }
 
+/// A setting's field, its bound, a value past it, and the overrides that set a value.
+type BoundCase = (&'static str, String, String, fn(&str) -> Overrides);
+
 /// At and past each bound, the command line and the scene file agree: the bound itself is
 /// accepted from both, one past it refused by both, the file's error naming the field and the
 /// command line's the flag.
@@ -88,7 +91,7 @@ fn sweep_values_past_the_scene_bounds_are_refused_naming_the_flag() {
 fn the_command_line_and_the_file_share_one_set_of_bounds() {
     let path = scene("passive_bending");
     let text = std::fs::read_to_string(&path).unwrap();
-    let cases: [(&str, String, String, fn(&str) -> Overrides); 4] = [
+    let cases: [BoundCase; 4] = [
         (
             "iterations",
             MAX_ITERATIONS.to_string(),

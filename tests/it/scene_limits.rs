@@ -166,3 +166,33 @@ fn the_rain_at_a_one_second_step_records_up_to_its_failure() {
     let frames = frames_with(&decode(&path), "world/ragdolls/capsules", "translations");
     assert!(frames.contains(&0) && frames.len() <= 2, "{frames:?}");
 }
+
+/// Loose bodies (no groups: the grid's rebuild) crowded into one spot make a pair each with
+/// every other; past the broad phase's budget the step stops with the usual error, at frame 1,
+/// naming a body.
+#[test]
+fn a_crowd_past_the_pair_budget_stops_at_its_first_step() {
+    use rodlab::body::{Body, BodyKind};
+    use rodlab::math::{Quat, Vec3};
+    use rodlab::shape::Shape;
+    use rodlab::world::{Settings, World};
+    let mut world = World::new(Settings {
+        contacts: true,
+        ..Settings::default()
+    });
+    // 2000 spheres within 2 cm: 2 million pairs, past the budget of 2^20 + 64 a body
+    for i in 0..2000 {
+        let at = Vec3::new(0.01 * (i % 2) as f32, 1.0 + 0.01 * (i % 3) as f32, 0.0);
+        let ball = Body::new(
+            format!("ball{i}"),
+            BodyKind::Dynamic,
+            Shape::Sphere { radius: 0.1 },
+            1.0,
+        );
+        world.add_body(ball.with_pose(at, Quat::IDENTITY));
+    }
+    let error = world.step().unwrap_err();
+    assert_eq!(error.frame, 1, "{error}");
+    assert!(error.body.starts_with("ball"), "{error}");
+    assert!(error.reason.contains("candidate pairs"), "{error}");
+}

@@ -219,10 +219,8 @@ fn cell_pairs(
                     unpaid += 1;
                 }
             });
-            if unpaid >= Budget::BATCH {
-                if !budget.take(std::mem::take(&mut unpaid)) {
-                    return;
-                }
+            if unpaid >= Budget::BATCH && !budget.take(std::mem::take(&mut unpaid)) {
+                return;
             }
         }
         start = end;
