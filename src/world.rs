@@ -166,6 +166,7 @@ impl World {
 
     /// Steps 1-5 of the solver's list, each phase timed into `solver.profile`.
     fn step_phases(&mut self) -> Result<(), SimulationError> {
+        let overflows = self.contacts.pair_overflows();
         self.solver.step(
             &self.settings,
             &mut self.bodies,
@@ -174,6 +175,9 @@ impl World {
         );
         self.frame += 1;
         self.time += self.settings.dt as f64;
+        if self.contacts.pair_overflows() != overflows {
+            return Err(self.swept_too_far());
+        }
         let started = std::time::Instant::now();
         let health = self.check_health();
         self.solver.profile.health = started.elapsed().as_secs_f64();
@@ -313,6 +317,32 @@ impl World {
             });
         }
         Ok(())
+    }
+
+    /// The error for a step whose contact detection stopped at its pair budget: bodies swept
+    /// so far through each other (a time step far too long for their speed) that their pairs
+    /// grew as the square of their number. Names the fastest body.
+    fn swept_too_far(&self) -> SimulationError {
+        let speed = |b: &Body| b.linear_velocity.length();
+        let fastest = (self.bodies.iter().enumerate())
+            .filter(|(_, b)| b.is_dynamic())
+            .max_by(|(_, a), (_, b)| speed(a).total_cmp(&speed(b)))
+            .map_or(0, |(i, _)| i);
+        let body = &self.bodies[fastest];
+        let dt = self.settings.dt;
+        SimulationError {
+            frame: self.frame,
+            body: body.name.clone(),
+            constraint: self.worst_constraint_on(BodyId(fastest as u32)),
+            reason: format!(
+                "exploded: it moves {:.1} m/s, {:.2} m in a step of {dt} s, the fastest of \
+                 bodies sweeping so far through each other that contact detection found more \
+                 than its bound of {} candidate pairs (is the time step too long?)",
+                speed(body),
+                speed(body) * dt,
+                crate::contact::broadphase::pair_budget(self.bodies.len())
+            ),
+        }
     }
 
     /// Name of the constraint on `body` with the largest error (NaN counts as largest).

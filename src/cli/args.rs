@@ -6,6 +6,7 @@ use clap::{Args, Parser, Subcommand};
 
 use crate::constraint::{BendTwist, JointFlavour, TwistMode};
 use crate::ragdoll::{SelfContacts, SpineKind};
+use crate::scene::bounds::MAX_THREADS;
 use crate::scene::{RodOverrides, SoftnessOverride};
 use crate::sim::Overrides;
 use crate::world::{ContactDetection, SolverKind};
@@ -59,7 +60,8 @@ pub enum Command {
         /// a smaller file of how a long run ends.
         #[arg(long, value_parser = non_negative, default_value_t = 0.0)]
         record_from: f32,
-        /// Let --save write over an existing file that is not an .rrd (never over the scene).
+        /// Let --save write over an existing path that is not a recording of its own: a symbolic
+        /// link, a file with other hard links, or a file without Rerun's header (never the scene).
         #[arg(long)]
         force: bool,
         /// Settings that override the scene's.
@@ -174,8 +176,8 @@ pub struct SweepArgs {
     /// spines run once.
     #[arg(long, value_delimiter = ',', value_parser = parse_choice::<BendTwist>)]
     pub bend_twist: Vec<BendTwist>,
-    /// Worker threads of the solver; default rayon's (one per core).
-    #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+    /// Worker threads of the solver (at most 1024); default rayon's (one per core).
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=MAX_THREADS))]
     pub threads: Option<u64>,
     /// Frames per run; default the scene's.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
@@ -247,8 +249,8 @@ pub struct OverrideArgs {
     /// the scene's `joint_damping`).
     #[arg(long, value_parser = non_negative)]
     pub joint_damping: Option<f32>,
-    /// Worker threads of the solver; default rayon's (one per core).
-    #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+    /// Worker threads of the solver (at most 1024); default rayon's (one per core).
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=MAX_THREADS))]
     pub threads: Option<u64>,
     /// Time step (s).
     #[arg(long, value_parser = positive_seconds)]

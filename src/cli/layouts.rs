@@ -62,9 +62,9 @@ pub(super) fn survey(
     std::fs::write(&md, markdown(scene, what.variant, &summary, &runs))
         .with_context(|| format!("cannot write {}", md.display()))?;
     for line in &summary {
-        println!("{line}");
+        report!("{line}");
     }
-    println!("  -> {}, {}", md.display(), csv.display());
+    report!("  -> {}, {}", md.display(), csv.display());
     Ok(())
 }
 

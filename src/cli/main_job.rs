@@ -13,7 +13,7 @@ use crate::shard::Shard;
 use crate::sim::{Overrides, RunReport};
 use crate::world::{ContactDetection, SolverKind};
 
-use super::run::{explain_write_failure, load_scene, record_kinematics_scene, record_scene};
+use super::run::{load_scene, record_kinematics_scene, record_scene};
 use super::summary::print_summary;
 use super::{layouts, stop, stress, sweep, tune};
 
@@ -155,7 +155,7 @@ pub(super) fn run_all(
         let result = load_scene(path, None, overrides).and_then(|mut scene| {
             // heavy scenes give the main job a shorter run (`ci_frames`), unless --frames
             if let (None, Some(n)) = (overrides.frames, scene.def.ci_frames) {
-                println!(
+                report!(
                     "{}: main job runs {n} of its {} frames (ci_frames; `rodlab run` runs all)",
                     scene.name(),
                     scene.def.frames
@@ -171,19 +171,17 @@ pub(super) fn run_all(
                 let out = out_dir.join(format!("{name}.rrd"));
                 let started = std::time::Instant::now();
                 if variant.def.kinematics.is_some() {
-                    record_kinematics_scene(&variant, &record::save_to(&out, &variant)?)
-                        .map_err(|e| explain_write_failure(Some(&out), e))?;
-                    println!(
+                    record_kinematics_scene(&variant, &record::save_to(&out, &variant)?)?;
+                    report!(
                         "  -> {} ({:.1} s)",
                         out.display(),
                         started.elapsed().as_secs_f32()
                     );
                     continue;
                 }
-                let report = record_scene(&variant, record::save_to(&out, &variant)?)
-                    .map_err(|e| explain_write_failure(Some(&out), e))?;
+                let report = record_scene(&variant, record::save_to(&out, &variant)?)?;
                 print_summary(&name, &variant, &report);
-                println!(
+                report!(
                     "  -> {} ({:.1} s)",
                     out.display(),
                     started.elapsed().as_secs_f32()
@@ -202,7 +200,7 @@ pub(super) fn run_all(
             Ok(())
         });
         if let Err(e) = result {
-            eprintln!("error: {e:#}");
+            note!("error: {e:#}");
             failures.push(path.display().to_string());
         }
     }
@@ -224,6 +222,8 @@ fn variants(scene: &Scene, overrides: &Overrides) -> anyhow::Result<Vec<Scene>> 
     for name in scene.variant_names() {
         let mut method = scene.variant(name)?;
         overrides.apply(&mut method.def);
+        (overrides.check_on(&method))
+            .map_err(|m| anyhow::anyhow!("{}: [[variant]] {name}: {m}", scene.path.display()))?;
         methods.push(method);
     }
     if scene.def.spines.is_empty() || overrides.spine.is_some() {
@@ -258,7 +258,7 @@ fn print_comparison(name_a: &str, a: &RunReport, name_b: &str, b: &RunReport) {
     let better = (0..frames)
         .filter(|&i| b.total_dislocation_cm[i] < a.total_dislocation_cm[i])
         .count();
-    println!(
+    report!(
         "  total dislocation, mean over frames: {name_a} {:.3} cm, {name_b} {:.3} cm; {name_b} below {name_a} in {:.1}% of frames",
         mean(a),
         mean(b),

@@ -17,14 +17,44 @@ use crate::shard::Shard;
 static STDOUT_IS_RECORDING: std::sync::atomic::AtomicBool =
     std::sync::atomic::AtomicBool::new(false);
 
-/// `println!`, or `eprintln!` while stdout carries the recording.
+/// Set once a report line could not be written to stdout: its reader went away
+/// (`rodlab run ... | head -1`) or its file is full.
+static STDOUT_CLOSED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Writes one report line to stdout, or to stderr while stdout carries the recording.
+///
+/// Reports are a by-product of a run; its recording is what it makes. So a stdout that fails
+/// (a closed pipe, EPIPE) stops the printing, never the run: the run goes on and finishes its
+/// recording, and the exit code is the run's own (0 when it succeeded), as for a run whose
+/// output nobody reads.
+pub(crate) fn print_report(line: std::fmt::Arguments) {
+    use std::io::Write as _;
+    use std::sync::atomic::Ordering::Relaxed;
+    if STDOUT_IS_RECORDING.load(Relaxed) {
+        print_note(line);
+    } else if !STDOUT_CLOSED.load(Relaxed) && writeln!(std::io::stdout().lock(), "{line}").is_err()
+    {
+        STDOUT_CLOSED.store(true, Relaxed);
+    }
+}
+
+/// Writes one line to stderr; a stderr that fails is ignored, as for [`print_report`].
+pub(crate) fn print_note(line: std::fmt::Arguments) {
+    use std::io::Write as _;
+    let _ = writeln!(std::io::stderr().lock(), "{line}");
+}
+
+/// A report line ([`print_report`]): stdout, or stderr while stdout carries the recording.
 macro_rules! report {
     ($($arg:tt)*) => {
-        if $crate::cli::STDOUT_IS_RECORDING.load(std::sync::atomic::Ordering::Relaxed) {
-            eprintln!($($arg)*)
-        } else {
-            println!($($arg)*)
-        }
+        $crate::cli::print_report(format_args!($($arg)*))
+    };
+}
+
+/// A line on stderr ([`print_note`]).
+macro_rules! note {
+    ($($arg:tt)*) => {
+        $crate::cli::print_note(format_args!($($arg)*))
     };
 }
 
@@ -80,7 +110,7 @@ fn dispatch(cli: Cli, matches: &ArgMatches) -> anyhow::Result<()> {
     }
     dispatch_command(cli, matches)?;
     if let Some(code) = stop::exit_code() {
-        eprintln!(
+        note!(
             "stopped by {}: the recording is complete up to there",
             stop::signal_name()
         );
@@ -139,7 +169,7 @@ fn dispatch_command(cli: Cli, matches: &ArgMatches) -> anyhow::Result<()> {
         Some(Command::Check { scenes }) => check(&scenes),
         Some(Command::Outputs) => {
             for file in main_job_outputs(Path::new("scenes"), Path::new("recordings"))? {
-                println!("{}", file.display());
+                report!("{}", file.display());
             }
             Ok(())
         }
@@ -153,7 +183,7 @@ fn check(paths: &[PathBuf]) -> anyhow::Result<()> {
     for path in paths {
         let scene = Scene::load(path)?;
         let lab = scene.build()?;
-        println!(
+        report!(
             "{}: ok ({} bodies, {} constraints, {} ragdolls, {} frames at dt {} s, {} substep(s) x {} iterations, {} solver)",
             path.display(),
             lab.world.bodies.len(),

@@ -23,46 +23,89 @@ pub(super) fn rerun_sink_given(matches: &ArgMatches) -> bool {
         .any(|id| matches!(matches.value_source(id), Some(ValueSource::CommandLine)))
 }
 
-/// A run that failed because its recording could not be written names the file and, probed
-/// with a small write beside it, the OS error (a full disk: "No space left on device").
-pub(super) fn explain_write_failure(out: Option<&Path>, e: anyhow::Error) -> anyhow::Error {
-    let Some(out) = out.filter(|_| format!("{e:#}").contains("could not be written")) else {
-        return e;
-    };
-    let dir = out
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let probe = dir.join(format!(".rodlab-write-probe-{}", std::process::id()));
-    let os_error = match std::fs::write(&probe, [0u8; 65536]) {
-        Ok(()) => "a probe write beside it succeeded".to_string(),
-        Err(io) => io.to_string(),
-    };
-    let _ = std::fs::remove_file(&probe);
-    e.context(format!("writing {}: {os_error}", out.display()))
-}
-
-/// Refuses to write a recording over the scene file being run, or (unless `force`) over an
-/// existing file that is not an `.rrd`.
+/// Refuses to write a recording over the scene file being run (under any of its names: a
+/// symbolic or hard link to it too), and, unless `force`, over an existing path that is not
+/// a recording of its own: a symbolic link (writing follows it), anything but a regular file,
+/// a file with other hard links (writing changes them all), or a file that does not start
+/// with Rerun's `.rrd` header, whatever its name. An empty file holds nothing to lose.
 pub(super) fn check_output(out: &Path, scene: &Path, force: bool) -> anyhow::Result<()> {
-    let same = |a: &Path, b: &Path| match (a.canonicalize(), b.canonicalize()) {
-        (Ok(a), Ok(b)) => a == b,
-        _ => false,
+    let refuse = |what: &str| {
+        anyhow::anyhow!(
+            "--save {}: {what}; pass --force to write over it",
+            out.display()
+        )
     };
-    if same(out, scene) {
+    if same_file(out, scene) {
         anyhow::bail!(
             "--save {}: that is the scene being run; choose another file",
             out.display()
         );
     }
-    let is_rrd = out.extension().is_some_and(|e| e == "rrd");
-    if out.exists() && !is_rrd && !force {
-        anyhow::bail!(
-            "--save {}: the file exists and is not an .rrd recording; pass --force to write over it",
-            out.display()
-        );
+    let Ok(meta) = std::fs::symlink_metadata(out) else {
+        return Ok(()); // nothing there yet
+    };
+    if force {
+        return Ok(());
+    }
+    if meta.file_type().is_symlink() {
+        return Err(refuse("it is a symbolic link, and writing would follow it"));
+    }
+    if !meta.is_file() {
+        return Err(refuse("it exists and is not a regular file"));
+    }
+    if let Some(links) = hard_links(&meta).filter(|&n| n > 1) {
+        return Err(refuse(&format!(
+            "the file has {links} hard links, and writing would change every one"
+        )));
+    }
+    if meta.len() > 0 && !starts_like_a_recording(out)? {
+        return Err(refuse(
+            "the file exists and is not an .rrd recording (no Rerun header at its start)",
+        ));
     }
     Ok(())
+}
+
+/// Whether `a` and `b` name the same file (through links too).
+fn same_file(a: &Path, b: &Path) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt as _;
+        if let (Ok(a), Ok(b)) = (std::fs::metadata(a), std::fs::metadata(b)) {
+            return (a.dev(), a.ino()) == (b.dev(), b.ino());
+        }
+    }
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    }
+}
+
+/// How many names the file has, where the platform says.
+fn hard_links(meta: &std::fs::Metadata) -> Option<u64> {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt as _;
+        Some(meta.nlink())
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = meta;
+        None
+    }
+}
+
+/// Whether the file starts with an `.rrd` stream header's magic bytes (this Rerun's or an
+/// older one's).
+fn starts_like_a_recording(path: &Path) -> anyhow::Result<bool> {
+    use rerun::external::re_log_encoding::{OLD_RRD_FOURCC, RRD_FOURCC};
+    use std::io::Read as _;
+    let file = std::fs::File::open(path)
+        .with_context(|| format!("--save {}: cannot read the existing file", path.display()))?;
+    let mut start = Vec::with_capacity(4);
+    file.take(4).read_to_end(&mut start)?;
+    let magic: Option<[u8; 4]> = start.try_into().ok();
+    Ok(magic.is_some_and(|m| m == RRD_FOURCC || OLD_RRD_FOURCC.contains(&m)))
 }
 
 /// Loads a scene, at its `[[variant]]` `variant` if given, with the command line's overrides.
@@ -213,16 +256,14 @@ pub(super) fn run_one(
         (rec, guard, None)
     } else {
         let out = Path::new("recordings").join(format!("{name}.rrd"));
-        eprintln!("recording to {}", out.display());
+        note!("recording to {}", out.display());
         (record::save_to(&out, scene)?, Default::default(), Some(out))
     };
     if scene.def.kinematics.is_some() {
-        return record_kinematics_scene(scene, &rec)
-            .map_err(|e| explain_write_failure(out.as_deref(), e));
+        return record_kinematics_scene(scene, &rec);
     }
     // no file: a viewer (--spawn, --connect) or a pipe, sent frame by frame
-    let report = record_scene_to(scene, rec, record_from, out.is_none())
-        .map_err(|e| explain_write_failure(out.as_deref(), e))?;
+    let report = record_scene_to(scene, rec, record_from, out.is_none())?;
     print_summary(&name, scene, &report);
     if stop::requested() {
         report!(

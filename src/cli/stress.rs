@@ -63,12 +63,12 @@ pub(super) fn stress(out: &Path) -> anyhow::Result<()> {
     }
     progress.finish();
     let markdown = stress::table_markdown(&outcomes);
-    println!(
+    report!(
         "== stress: {} runs in {:.1} s",
         outcomes.len(),
         started.elapsed().as_secs_f32()
     );
-    println!("{markdown}");
+    report!("{markdown}");
     let md_path = out.join("stress.md");
     let csv_path = out.join("stress.csv");
     let machine = crate::sweep::machine_name();
@@ -79,7 +79,7 @@ pub(super) fn stress(out: &Path) -> anyhow::Result<()> {
     .with_context(|| format!("cannot write {}", md_path.display()))?;
     std::fs::write(&csv_path, stress::table_csv(&outcomes))
         .with_context(|| format!("cannot write {}", csv_path.display()))?;
-    println!(
+    report!(
         "  -> {}, {}, and {} recordings of the runs that are not stable in {}",
         md_path.display(),
         csv_path.display(),

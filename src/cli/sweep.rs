@@ -30,6 +30,12 @@ pub(super) fn sweep(
         .filter(|(i, _)| shard.takes(*i))
         .map(|(_, o)| o)
         .collect();
+    // every combination within the scene's bounds before the first run
+    for overrides in &combinations {
+        let mut applied = scene.clone();
+        overrides.apply(&mut applied.def);
+        (overrides.check_on(&applied)).map_err(|m| anyhow::anyhow!("{}: {m}", path.display()))?;
+    }
     let machine = sweep::machine_name();
     let peer_runs = if peer.is_some() {
         let count = config.iterations.len() * config.dts.len().max(1);
@@ -45,7 +51,7 @@ pub(super) fn sweep(
     } else {
         format!(" (shard {}/{})", shard.index, shard.count)
     };
-    println!("== sweep {name}: {runs} runs on {machine}{of}");
+    report!("== sweep {name}: {runs} runs on {machine}{of}");
     let mut progress = Progress::new(runs);
     let mut rows = Vec::with_capacity(combinations.len());
     for overrides in &combinations {
@@ -90,7 +96,7 @@ pub(super) fn sweep(
     if shard.index == 1 {
         feature_costs(&scene, out)?;
     } else {
-        println!("  (the feature costs are measured by shard 1)");
+        report!("  (the feature costs are measured by shard 1)");
     }
     Ok(rows)
 }
@@ -111,7 +117,7 @@ fn check_peer(peer: Option<&str>) -> anyhow::Result<()> {
 
 /// The sweep's table on stdout, a line per run.
 fn print_rows(rows: &[crate::sweep::SweepRow]) {
-    println!(
+    report!(
         "  {:<36} {:>8} {:>4} {:>5} {:>10} {:>12} {:>12} {:>10} {:>10}",
         "method",
         "dt",
@@ -125,7 +131,7 @@ fn print_rows(rows: &[crate::sweep::SweepRow]) {
     );
     for r in rows {
         match &r.failed {
-            None => println!(
+            None => report!(
                 "  {:<36} {:>8.4} {:>4} {:>5} {:>10.1} {:>12.4} {:>12.4} {:>10.5} {:>10.2}",
                 r.method,
                 r.dt,
@@ -137,9 +143,12 @@ fn print_rows(rows: &[crate::sweep::SweepRow]) {
                 r.mean_angular_rad,
                 r.max_overlap_cm
             ),
-            Some(e) => println!(
+            Some(e) => report!(
                 "  {:<36} {:>8.4} {:>4} {:>5} failed: {e}",
-                r.method, r.dt, r.substeps, r.iterations
+                r.method,
+                r.dt,
+                r.substeps,
+                r.iterations
             ),
         }
     }
@@ -166,7 +175,7 @@ fn write_outputs(
     std::fs::write(&png, &png_bytes).with_context(|| format!("cannot write {}", png.display()))?;
     let rrd = out.join(format!("{stem}.rrd"));
     record::save_sweep(&rrd, name, rows, machine, &png_bytes)?;
-    println!(
+    report!(
         "  -> {}, {} (and .png), {}",
         csv.display(),
         svg.display(),
@@ -180,7 +189,7 @@ fn write_outputs(
         let png = out.join(format!("{stem}_overlap.png"));
         std::fs::write(&png, chart.to_png()?)
             .with_context(|| format!("cannot write {}", png.display()))?;
-        println!("  -> {} (and .png)", svg.display());
+        report!("  -> {} (and .png)", svg.display());
     }
     Ok(())
 }
@@ -257,13 +266,17 @@ fn feature_costs(scene: &Scene, out: &Path) -> anyhow::Result<()> {
         with_us: recorded,
         without_us: headless,
     });
-    println!("  what the scene pays for (median us per frame over {frames} frames):");
-    println!(
+    report!("  what the scene pays for (median us per frame over {frames} frames):");
+    report!(
         "  {:<26} {:>9} {:>10} {:>10} {:>8}",
-        "feature", "modelled", "with", "without", "cost"
+        "feature",
+        "modelled",
+        "with",
+        "without",
+        "cost"
     );
     for c in &costs {
-        println!(
+        report!(
             "  {:<26} {:>9} {:>10.1} {:>10.1} {:>+7.0}%",
             c.feature,
             if c.modelled { "yes" } else { "no" },
@@ -318,18 +331,19 @@ impl Progress {
             self.started.elapsed().as_secs_f32()
         );
         if self.terminal {
-            eprint!("\r\x1b[2K{line}");
+            use std::io::Write as _;
+            let _ = write!(std::io::stderr().lock(), "\r\x1b[2K{line}");
         } else {
-            eprintln!("{line}");
+            note!("{line}");
         }
         self.done += 1;
     }
 
     pub(super) fn finish(&self) {
         if self.terminal {
-            eprintln!();
+            note!("");
         }
-        eprintln!(
+        note!(
             "  {} runs in {:.1} s",
             self.total,
             self.started.elapsed().as_secs_f32()

@@ -10,6 +10,7 @@ use rayon::prelude::*;
 use super::parse::{non_negative, parse_choice, positive_stiffness, unit_interval};
 use crate::ragdoll::SpineKind;
 use crate::record::tune::TuneRecorder;
+use crate::scene::bounds::{MAX_FRAMES, MAX_ITERATIONS};
 use crate::scene::Scene;
 use crate::tune::{self, MatchBy, RodSetting, Shard, Softness, TuneConfig, TuneRow};
 
@@ -38,10 +39,11 @@ pub struct TuneArgs {
     #[arg(long, value_parser = non_negative, requires = "twist_stiffness")]
     pub twist_damping: Option<f32>,
     /// Iteration counts, a third axis of the grid (default the scene's).
-    #[arg(long, value_delimiter = ',', value_parser = clap::value_parser!(u32).range(1..))]
+    #[arg(long, value_delimiter = ',',
+          value_parser = clap::value_parser!(u32).range(1..=MAX_ITERATIONS as i64))]
     pub iterations: Vec<u32>,
     /// Frames per copy (default the scene's).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=MAX_FRAMES as i64))]
     pub frames: Option<u32>,
     /// Angular velocity (rad/s) about the rod's tangent given to the chest at the start.
     #[arg(long, default_value_t = 2.0)]
@@ -129,7 +131,7 @@ pub fn match_bend(args: &TuneArgs, scene: &Scene) -> anyhow::Result<Vec<Matched>
                 let Some(psi) = tune::chain3_psi(scene, n)? else {
                     bail!("--match chain3: the chain3 spine does not settle in {} frames at {n} iterations", scene.def.frames);
                 };
-                println!("  chain3 spine at {n} iterations settles at psi {psi:.4} rad");
+                report!("  chain3 spine at {n} iterations settles at psi {psi:.4} rad");
                 psi
             }
             (None, Some(other)) => bail!("--match {other}: only chain3 can be matched"),
@@ -145,7 +147,7 @@ pub fn match_bend(args: &TuneArgs, scene: &Scene) -> anyhow::Result<Vec<Matched>
             Some((v, psi)) => format!("{v:.5}{unit} (settles at {psi:.4} rad)"),
             None => "out of reach".into(),
         };
-        println!(
+        report!(
             "  psi {target:.4} rad at {n} iterations, {}: alpha_b {}, bend_stiffness {}",
             twist.label("twist"),
             show(alpha, ""),
@@ -177,7 +179,7 @@ fn print_equivalents(scene: &Scene, rows: &[TuneRow]) -> anyhow::Result<()> {
         return Ok(());
     }
     let twist = tune::scene_twist(scene)?;
-    println!(
+    report!(
         "  what alpha_b amounts to (dt {} s, {} substep(s), {}; measured: the stiffness that \
          settles where the alpha does):",
         scene.def.dt,
@@ -219,7 +221,7 @@ fn print_equivalents(scene: &Scene, rows: &[TuneRow]) -> anyhow::Result<()> {
                 format!("settles at psi {psi:.4} rad = bend_stiffness {k}")
             }
         };
-        println!("    alpha_b {alpha:<7} at {n:>3} iterations: {line}");
+        report!("    alpha_b {alpha:<7} at {n:>3} iterations: {line}");
     }
     Ok(())
 }
@@ -229,7 +231,7 @@ pub fn tune(args: &TuneArgs) -> anyhow::Result<()> {
     let scene = Scene::load(&args.scene)?;
     let name = scene.name();
     if args.match_psi.is_some() || args.match_spine.is_some() {
-        println!("== tune {name}: matching the bend");
+        report!("== tune {name}: matching the bend");
         match_bend(args, &scene)?;
         return Ok(());
     }
@@ -247,7 +249,7 @@ pub fn run_grid(scene: &Scene, config: &TuneConfig, out: &Path) -> anyhow::Resul
         .filter(|c| config.shard.takes(c.index))
         .cloned()
         .collect();
-    println!(
+    report!(
         "== tune {name}: {} of {} copies ({} bend x {} twist x {} iteration counts)",
         mine.len(),
         all.len(),
@@ -262,13 +264,19 @@ pub fn run_grid(scene: &Scene, config: &TuneConfig, out: &Path) -> anyhow::Resul
     let (rows, traces) = tune::run_grid(scene, config, &mut |frame, labs| {
         recorder.frame(frame, labs)
     })?;
-    println!(
+    report!(
         "  {:<50} {:>9} {:>9} {:>10} {:>9} {:>9} {:>9}",
-        "copy", "psi rad", "tau rad", "overshoot", "psi s", "tau s", "disl cm"
+        "copy",
+        "psi rad",
+        "tau rad",
+        "overshoot",
+        "psi s",
+        "tau s",
+        "disl cm"
     );
     for r in &rows {
         match &r.failed {
-            None => println!(
+            None => report!(
                 "  {:<50} {:>9.4} {:>9.4} {:>10.4} {:>9.2} {:>9.2} {:>9.4}",
                 r.copy.label(),
                 r.final_psi,
@@ -278,7 +286,7 @@ pub fn run_grid(scene: &Scene, config: &TuneConfig, out: &Path) -> anyhow::Resul
                 r.tau_settling_s,
                 r.mean_dislocation_cm
             ),
-            Some(e) => println!("  {:<50} failed: {e}", r.copy.label()),
+            Some(e) => report!("  {:<50} failed: {e}", r.copy.label()),
         }
     }
     let csv = tune::to_csv(&rows);
@@ -291,11 +299,11 @@ pub fn run_grid(scene: &Scene, config: &TuneConfig, out: &Path) -> anyhow::Resul
     let png = chart.to_png()?;
     write(stem.with_extension("png"), &png)?;
     recorder.finish(&traces, &rows, &csv, &png)?;
-    println!("  -> {} (and .csv, .svg, .png)", rrd.display());
+    report!("  -> {} (and .csv, .svg, .png)", rrd.display());
     if config.shard == Shard::ALL {
         print_equivalents(scene, &rows)?;
     } else {
-        println!("  (the alpha-to-stiffness equivalents are printed by an unsharded run)");
+        report!("  (the alpha-to-stiffness equivalents are printed by an unsharded run)");
     }
     Ok(rows)
 }

@@ -250,6 +250,12 @@ impl Contacts {
         self.detection.pairs_skipped()
     }
 
+    /// Detections so far that found too many candidate pairs to go on, and so no points: the
+    /// bodies swept too far through each other in one step (the run must stop).
+    pub fn pair_overflows(&self) -> u64 {
+        self.detection.pair_overflows()
+    }
+
     /// Where the last detection's wall time went, piece by piece.
     pub fn detection_profile(&self) -> &detect::DetectionProfile {
         self.detection.profile()

@@ -53,6 +53,5 @@ pub fn record_kinematics(
         }
         rec.log("metrics/bend_rad", &rerun::Scalars::single(*psi as f64))?;
     }
-    rec.flush_blocking()?;
-    Ok(())
+    super::file::finish(rec)
 }

@@ -44,6 +44,7 @@ use crate::scene::{RecordDef, Scene};
 
 mod bodies;
 mod columns;
+pub mod file;
 mod kinematics;
 mod recorder;
 mod style;
@@ -94,20 +95,6 @@ pub const APPLICATION_ID: &str = "rodlab";
 /// second instead made a fast run's memory grow with its length (the drop runs about 3x faster
 /// than real time).
 const FLUSH_WALL_S: f64 = 1.0;
-/// A flush that takes longer than this (s) fails the run instead of hanging it: the file
-/// writer has died or stalled (a full disk, a vanished file system).
-const FLUSH_TIMEOUT_S: u64 = 10;
-
-/// Flushes `rec`, at most [`FLUSH_TIMEOUT_S`] long.
-fn flush(rec: &RecordingStream) -> anyhow::Result<()> {
-    rec.flush_with_timeout(std::time::Duration::from_secs(FLUSH_TIMEOUT_S))
-        .map_err(|e| {
-            anyhow::anyhow!(
-                "the recording could not be written ({e}); is the disk full, or the file gone?"
-            )
-        })
-}
-
 /// The layout for a recording: the 3D view beside its plots (residuals, then tabs for energy,
 /// pose deviation, rod scalars and bone errors; for the kinematics scene, the end gaps).
 pub fn blueprint(info: impl Into<RecordingInfo>) -> Blueprint {
@@ -161,16 +148,8 @@ pub fn save_to(path: &Path, info: impl Into<RecordingInfo>) -> anyhow::Result<Re
     let info = info.into();
     create_parent(path)?;
     let footer = info.options.footer;
-    let rec = rerun::RecordingStreamBuilder::new(APPLICATION_ID)
+    let builder = rerun::RecordingStreamBuilder::new(APPLICATION_ID)
         .recording_name(info.name.clone())
         .with_blueprint(blueprint(info));
-    let rec = if footer {
-        rec.save(path)?
-    } else {
-        let options = rerun::sink::FileSinkOptions {
-            write_footer: false,
-        };
-        rec.set_sinks((rerun::sink::FileSink::with_options(path, options)?,))?
-    };
-    Ok(rec)
+    file::save(builder, path, footer)
 }

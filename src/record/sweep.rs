@@ -21,10 +21,10 @@ pub fn save_sweep(
 ) -> anyhow::Result<()> {
     create_parent(path)?;
     let blueprint = sweep_blueprint();
-    let rec = rerun::RecordingStreamBuilder::new(APPLICATION_ID)
+    let builder = rerun::RecordingStreamBuilder::new(APPLICATION_ID)
         .recording_name(format!("{scene}_sweep"))
-        .with_blueprint(blueprint)
-        .save(path)?;
+        .with_blueprint(blueprint);
+    let rec = super::file::save(builder, path, true)?;
     rec.set_log_time_enabled(false);
     rec.log_static(
         "sweep/table",
@@ -70,8 +70,7 @@ pub fn save_sweep(
             )?;
         }
     }
-    rec.flush_blocking()?;
-    Ok(())
+    super::file::finish(&rec)
 }
 
 /// The sweep recording's layout: the chart and the CSV in tabs, beside the two series by

@@ -137,11 +137,11 @@ impl TuneRecorder {
     /// Opens `path` for the copies `mine` of the grid `all` of scene `scene`.
     pub fn create(path: &Path, scene: &str, all: &[Copy], mine: &[Copy]) -> anyhow::Result<Self> {
         create_parent(path)?;
-        let rec = rerun::RecordingStreamBuilder::new(APPLICATION_ID)
+        let builder = rerun::RecordingStreamBuilder::new(APPLICATION_ID)
             .recording_name(format!("{scene}_tune"))
             .recording_id(format!("rodlab-tune-{scene}"))
-            .with_blueprint(blueprint(all))
-            .save(path)?;
+            .with_blueprint(blueprint(all));
+        let rec = super::file::save(builder, path, true)?;
         rec.set_log_time_enabled(false);
         Ok(TuneRecorder {
             rec,
@@ -194,7 +194,7 @@ impl TuneRecorder {
         }
         if frame.is_multiple_of(60) {
             self.send_poses()?;
-            self.rec.flush_blocking()?;
+            super::file::flush(&self.rec)?;
         }
         Ok(())
     }
@@ -296,7 +296,6 @@ impl TuneRecorder {
             "tune/chart",
             &rerun::EncodedImage::from_file_contents(chart_png.to_vec()),
         )?;
-        rec.flush_blocking()?;
-        Ok(())
+        super::file::finish(rec)
     }
 }

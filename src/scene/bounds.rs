@@ -12,11 +12,13 @@ pub const MAX_ITERATIONS: u32 = 10_000;
 pub const MAX_SUBSTEPS: u32 = 1_000;
 /// Frames per run, at most (46 h at 60 Hz).
 pub const MAX_FRAMES: u32 = 10_000_000;
+/// Worker threads of the solver's pool, at most (`--threads`).
+pub const MAX_THREADS: u64 = 1024;
 /// The longest time step (s).
 pub const MAX_DT: f32 = 1.0;
 /// Ragdolls a `[drop]` block makes, at most.
 pub const MAX_DROP_COUNT: usize = 10_000;
-/// Bodies a `[[tile]]` group expands to, at most.
+/// Bodies the `[[tile]]` groups expand to, all together, at most.
 pub const MAX_TILE_BODIES: u64 = 100_000;
 /// Positions and anchors lie within this distance of the origin (m).
 pub const MAX_COORDINATE: f32 = 1e5;
@@ -44,7 +46,7 @@ fn k(name: &str) -> Seg {
 }
 
 /// `values` finite with magnitudes at most `max` (`what` says the unit).
-fn within(values: &[f32], max: f32, what: &str) -> Result<(), String> {
+pub(super) fn within(values: &[f32], max: f32, what: &str) -> Result<(), String> {
     match values.iter().find(|v| !(v.abs() <= max)) {
         Some(v) => Err(format!(
             "must be finite {what} of magnitude at most {max:e}, got {v}"

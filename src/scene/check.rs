@@ -3,7 +3,7 @@
 
 use super::bounds::{self, Failure};
 use super::check_items::{
-    check_body, check_joint, check_kinematics, check_name, check_ragdoll, check_rod,
+    check_body, check_joint, check_kinematics, check_name, check_ragdoll, check_rod, Names,
 };
 use super::locate::Seg;
 use super::{variant, BodyDef, KindDef, Scene, SceneDef, ShapeKind, TileDef};
@@ -19,7 +19,8 @@ impl Scene {
                 Seg::Key(field.into()),
             ]
         };
-        let mut tile_names: Vec<&str> = Vec::new();
+        let mut tile_names = Names::default();
+        let mut made = 0;
         for (i, t) in d.tile.iter().enumerate() {
             check_name(&t.name, &tile_names).map_err(|m| (at(i, "name"), m))?;
             tile_names.push(&t.name);
@@ -41,14 +42,19 @@ impl Scene {
             if t.body.is_empty() {
                 return Err((at(i, "body"), "needs at least one [[tile.body]]".into()));
             }
-            let made = bounds::tile_bodies(t.repeat, t.body.len());
+            // the bound is on all groups together: each group within it is not enough
+            made += bounds::tile_bodies(t.repeat, t.body.len());
             if made > bounds::MAX_TILE_BODIES {
-                return Err((
-                    at(i, "repeat"),
-                    format!("makes {made} bodies, more than {}", bounds::MAX_TILE_BODIES),
-                ));
+                let max = bounds::MAX_TILE_BODIES;
+                let message = match i {
+                    0 => format!("makes {made} bodies, more than {max}"),
+                    _ => format!(
+                        "makes the [[tile]] groups' bodies {made} together, more than {max}"
+                    ),
+                };
+                return Err((at(i, "repeat"), message));
             }
-            let mut names: Vec<&str> = Vec::new();
+            let mut names = Names::default();
             for (j, b) in t.body.iter().enumerate() {
                 let field = |f: &str| {
                     vec![
@@ -97,22 +103,34 @@ impl Scene {
         Ok(())
     }
 
+    /// The scene's own settings (time step, counts, bounds, recording, name): checked first,
+    /// before the items that depend on them (a body's velocity against `max_speed`).
+    pub(super) fn check_method(&self) -> Result<(), Failure> {
+        let d = &self.def;
+        check_settings(d, &[])?;
+        let every = d.record.every;
+        if !(1..=bounds::MAX_FRAMES).contains(&every) {
+            return Err((
+                vec![Seg::Key("record".into()), Seg::Key("every".into())],
+                format!(
+                    "must be at least 1 (every frame) and at most {}, got {every}",
+                    bounds::MAX_FRAMES
+                ),
+            ));
+        }
+        if let Some(name) = &d.name {
+            bounds::check_scene_name(name).map_err(|m| (vec![Seg::Key("name".into())], m))?;
+        }
+        Ok(())
+    }
+
     /// Semantic checks serde cannot express.
     pub(super) fn check(&self) -> Result<(), Failure> {
         let d = &self.def;
         let at = |list: &str, i: usize, field: &str| {
             vec![Seg::Key(list.into()), Seg::Index(i), Seg::Key(field.into())]
         };
-        check_settings(d, &[])?;
-        if !(1..=bounds::MAX_FRAMES).contains(&d.record.every) {
-            return Err((
-                vec![Seg::Key("record".into()), Seg::Key("every".into())],
-                format!("must be at least 1 (every frame), got {}", d.record.every),
-            ));
-        }
-        if let Some(name) = &d.name {
-            bounds::check_scene_name(name).map_err(|m| (vec![Seg::Key("name".into())], m))?;
-        }
+        self.check_method()?;
         let mut variants: Vec<&str> = Vec::new();
         for (i, v) in d.variant.iter().enumerate() {
             let name = v.name.as_deref();
@@ -127,13 +145,13 @@ impl Scene {
         if let Some(k) = &d.kinematics {
             check_kinematics(k, d)?;
         }
-        let mut names: Vec<&str> = Vec::new();
+        let mut names = Names::default();
         for (i, r) in d.ragdoll.iter().enumerate() {
             check_name(&r.name, &names).map_err(|m| (at("ragdoll", i, "name"), m))?;
             names.push(&r.name);
             check_ragdoll(r, |f| at("ragdoll", i, f))?;
         }
-        let mut body_names: Vec<&str> = Vec::new();
+        let mut body_names = Names::default();
         for (i, b) in d.body.iter().enumerate() {
             check_name(&b.name, &body_names).map_err(|m| (at("body", i, "name"), m))?;
             body_names.push(&b.name);
@@ -146,7 +164,7 @@ impl Scene {
             names.push(&r.name);
             check_rod(r, &body_names, |f| at("rod", i, f))?;
         }
-        let mut joint_names_seen: Vec<&str> = Vec::new();
+        let mut joint_names_seen = Names::default();
         for (i, j) in d.joint.iter().enumerate() {
             check_name(&j.name, &joint_names_seen).map_err(|m| (at("joint", i, "name"), m))?;
             joint_names_seen.push(&j.name);

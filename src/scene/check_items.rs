@@ -72,7 +72,7 @@ pub(super) fn check_ragdoll(r: &RagdollDef, at: impl Fn(&str) -> Vec<Seg>) -> Re
 /// One `[[rod]]` between two named bodies: rest length, alphas and stiffness.
 pub(super) fn check_rod(
     r: &RodDef,
-    body_names: &[&str],
+    body_names: &Names,
     at: impl Fn(&str) -> Vec<Seg>,
 ) -> Result<(), Failure> {
     check_pair(&r.a, &r.b, body_names).map_err(|(f, m)| (at(f), m))?;
@@ -87,6 +87,9 @@ pub(super) fn check_rod(
     }
     check_relaxation(Some(r.alpha_b)).map_err(|m| (at("alpha_b"), m))?;
     check_relaxation(Some(r.alpha_t)).map_err(|m| (at("alpha_t"), m))?;
+    // a normal along the tangent, or zero, gets a stand-in; NaN or infinity has no direction
+    bounds::within(&r.normal, bounds::MAX_COORDINATE, "components")
+        .map_err(|m| (at("normal"), m))?;
     r.stiffness()
         .check(r.alpha_b != 0.0, r.alpha_t != 0.0)
         .map_err(|(f, m)| (at(f), m))?;
@@ -96,7 +99,7 @@ pub(super) fn check_rod(
 /// One `[[joint]]` between two named bodies: bounds, spring, axis, and its limits.
 pub(super) fn check_joint(
     j: &JointDef,
-    body_names: &[&str],
+    body_names: &Names,
     at: impl Fn(&str) -> Vec<Seg>,
 ) -> Result<(), Failure> {
     check_pair(&j.a, &j.b, body_names).map_err(|(f, m)| (at(f), m))?;
@@ -219,13 +222,48 @@ impl StiffnessDef {
     }
 }
 
-pub(super) fn check_name(name: &str, seen: &[&str]) -> Result<(), String> {
+/// Names seen so far: in order, for messages, and hashed, so that checking a scene of many
+/// bodies stays linear in their number.
+#[derive(Default)]
+pub(super) struct Names<'a> {
+    order: Vec<&'a str>,
+    set: std::collections::HashSet<&'a str>,
+}
+
+impl<'a> Names<'a> {
+    /// Whether `name` was seen.
+    pub(super) fn contains(&self, name: &str) -> bool {
+        self.set.contains(name)
+    }
+
+    /// Adds `name`.
+    pub(super) fn push(&mut self, name: &'a str) {
+        if self.set.insert(name) {
+            self.order.push(name);
+        }
+    }
+
+    /// The names for a message, in order: the first [`LISTED_NAMES`], then how many more.
+    fn listed(&self) -> String {
+        let shown = self.order.iter().take(LISTED_NAMES).copied();
+        let mut list = shown.collect::<Vec<_>>().join(", ");
+        if self.order.len() > LISTED_NAMES {
+            list += &format!(" and {} more", self.order.len() - LISTED_NAMES);
+        }
+        list
+    }
+}
+
+/// Names a message lists at most.
+const LISTED_NAMES: usize = 40;
+
+pub(super) fn check_name(name: &str, seen: &Names) -> Result<(), String> {
     if name.is_empty() || name.contains('/') {
         return Err(format!(
             "\"{name}\" is not a valid name (non-empty, no '/')"
         ));
     }
-    if seen.contains(&name) {
+    if seen.contains(name) {
         return Err(format!("duplicate name \"{name}\""));
     }
     Ok(())
@@ -235,11 +273,11 @@ pub(super) fn check_name(name: &str, seen: &[&str]) -> Result<(), String> {
 pub(super) fn check_pair(
     a: &str,
     b: &str,
-    body_names: &[&str],
+    body_names: &Names,
 ) -> Result<(), (&'static str, String)> {
     for (field, name) in [("a", a), ("b", b)] {
-        if !body_names.contains(&name) {
-            let known = body_names.join(", ");
+        if !body_names.contains(name) {
+            let known = body_names.listed();
             return Err((
                 field,
                 format!("unknown body \"{name}\", expected one of: {known}"),

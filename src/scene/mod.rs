@@ -83,8 +83,7 @@ impl Scene {
             scene = scene.variant(name)?;
         }
         overrides.apply(&mut scene.def);
-        (overrides.check_applied(&scene.def))
-            .map_err(|m| anyhow::anyhow!("{}: {m}", path.display()))?;
+        (overrides.check_on(&scene)).map_err(|m| anyhow::anyhow!("{}: {m}", path.display()))?;
         Ok(scene)
     }
 
@@ -124,6 +123,10 @@ impl Scene {
             text: text.to_string(),
             def,
         };
+        // the settings first: the items' checks read them (a velocity against max_speed)
+        scene
+            .check_method()
+            .map_err(|(p, message)| scene.error_at(&p, message))?;
         // the drop block is checked before it makes its ragdolls
         if let Some(drop) = &scene.def.drop {
             bounds::check_drop(drop).map_err(|(p, message)| scene.error_at(&p, message))?;

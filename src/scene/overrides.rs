@@ -3,7 +3,8 @@
 
 use serde::Deserialize;
 
-use super::{RagdollDef, SceneDef};
+use super::locate::{self, Seg};
+use super::{RagdollDef, Scene, SceneDef};
 use crate::constraint::{BendTwist, JointFlavour, TwistMode};
 use crate::ragdoll::{SelfContacts, SpineKind};
 use crate::world::{ContactDetection, SolverKind};
@@ -136,6 +137,10 @@ impl Overrides {
         set(&mut def.joint_damping, self.joint_damping);
         set(&mut def.dt, self.dt);
         set(&mut def.frames, self.frames);
+        if let Some(frames) = self.frames {
+            // the main job's shorter run cannot be longer than the run
+            def.ci_frames = def.ci_frames.map(|n| n.min(frames));
+        }
         set(&mut def.record.every, self.record_every);
         if let Some(self_contacts) = self.self_contacts {
             (def.ragdoll.iter_mut()).for_each(|r| r.self_contacts = self_contacts);
@@ -190,6 +195,100 @@ impl Overrides {
             );
             (r.alpha_b, r.alpha_t) = (alpha_b.unwrap_or(0.0), alpha_t.unwrap_or(0.0));
         }
+    }
+
+    /// Checks `scene` after [`Overrides::apply`] against the scene's own rules and bounds
+    /// (the very checks its file passed), then [`Overrides::check_applied`]: a setting has one
+    /// set of bounds whether the file, a variant or the command line gives it. An error names
+    /// the flag that set the field.
+    pub fn check_on(&self, scene: &Scene) -> Result<(), String> {
+        if let Err((path, message)) = scene.check() {
+            return Err(match self.flag_of(&path) {
+                Some(flag) => format!("{flag}: {message}"),
+                None => format!(
+                    "{} (with the command line's settings): {message}",
+                    locate::render(&path)
+                ),
+            });
+        }
+        self.check_applied(&scene.def)
+    }
+
+    /// The flag that set the field at `path`, if the overrides set it.
+    fn flag_of(&self, path: &[Seg]) -> Option<&'static str> {
+        let Some(Seg::Key(field)) = path.last() else {
+            return None;
+        };
+        let RodOverrides { bend, twist, .. } = self.rod;
+        let flags = [
+            ("iterations", "--iterations", self.iterations.is_some()),
+            ("substeps", "--substeps", self.substeps.is_some()),
+            ("dt", "--dt", self.dt.is_some()),
+            ("frames", "--frames", self.frames.is_some()),
+            ("every", "--record-every", self.record_every.is_some()),
+            (
+                "contact_push_speed",
+                "--contact-push-speed",
+                self.contact_push_speed.is_some(),
+            ),
+            (
+                "contact_extra_sweeps",
+                "--contact-extra-sweeps",
+                self.contact_extra_sweeps.is_some(),
+            ),
+            (
+                "contact_warm_start",
+                "--contact-warm-start",
+                self.contact_warm_start.is_some(),
+            ),
+            (
+                "contact_hertz",
+                "--contact-hertz",
+                self.contact_hertz.is_some(),
+            ),
+            (
+                "contact_damping_ratio",
+                "--contact-damping-ratio",
+                self.contact_damping_ratio.is_some(),
+            ),
+            (
+                "contact_stacking",
+                "--contact-stacking",
+                self.contact_stacking.is_some(),
+            ),
+            (
+                "contact_stacking_max_ratio",
+                "--contact-stacking-max-ratio",
+                self.contact_stacking_max_ratio.is_some(),
+            ),
+            (
+                "angular_speed_limit",
+                "--angular-speed-limit",
+                self.angular_speed_limit.is_some(),
+            ),
+            (
+                "joint_damping",
+                "--joint-damping",
+                self.joint_damping.is_some(),
+            ),
+            ("alpha_b", "--alpha-b", bend.alpha.is_some()),
+            ("alpha_t", "--alpha-t", twist.alpha.is_some()),
+            (
+                "bend_stiffness",
+                "--bend-stiffness",
+                bend.stiffness.is_some(),
+            ),
+            ("bend_damping", "--bend-damping", bend.damping.is_some()),
+            (
+                "twist_stiffness",
+                "--twist-stiffness",
+                twist.stiffness.is_some(),
+            ),
+            ("twist_damping", "--twist-damping", twist.damping.is_some()),
+        ];
+        (flags.into_iter())
+            .find(|(name, _, given)| *given && name == field)
+            .map(|(_, flag, _)| flag)
     }
 
     /// What the overrides cannot do to `def` (after [`Overrides::apply`]): a seed for a scene

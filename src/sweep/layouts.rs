@@ -74,6 +74,7 @@ pub fn run_layouts(
         base = base.variant(name)?;
     }
     overrides.apply(&mut base.def);
+    (overrides.check_on(&base)).map_err(|m| anyhow::anyhow!("{}: {m}", scene.display()))?;
     anyhow::ensure!(
         base.def.drop.is_some(),
         "{}: the scene has no [drop] block, so it has no layouts to vary",

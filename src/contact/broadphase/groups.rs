@@ -23,7 +23,7 @@
 
 use super::grid::{fill_column, Aabb};
 use super::rebuild::{code_lane, ALL_CODE_BITS, IN_EVERY_CELL};
-use super::{BroadPhase, CellBox, CellLanes, Joined, Proxy};
+use super::{BroadPhase, Budget, CellBox, CellLanes, Joined, Proxy};
 use crate::lanes::{Lane, LaneWidth, LaneWork, MAX_LANES};
 use crate::with_lane_type;
 
@@ -183,6 +183,7 @@ struct SpanPairs<'a> {
     spans: std::ops::Range<usize>,
     proxies: &'a [Proxy],
     joined: &'a Joined,
+    budget: &'a Budget,
     out: &'a mut ChunkOut,
 }
 
@@ -191,9 +192,17 @@ impl<L: Lane> LaneWork<L> for SpanPairs<'_> {
     #[inline(always)]
     fn run(self) {
         let ChunkOut { pairs, scratch } = self.out;
+        let mut paid = 0;
         for s in self.spans {
             (self.layout).pairs_of_span::<L>(s, self.proxies, self.joined, scratch, pairs);
+            if pairs.len() - paid >= Budget::BATCH {
+                if !self.budget.take(pairs.len() - paid) {
+                    return;
+                }
+                paid = pairs.len();
+            }
         }
+        self.budget.take(pairs.len() - paid);
     }
 }
 
@@ -406,7 +415,7 @@ impl BroadPhase {
     /// Rebuilds the fat pairs group by group (see the module docs) from the fat boxes
     /// [`Self::refresh_boxes`] set. Returns false, with the pairs untouched, where groups do
     /// not apply: a group's proxies are not consecutive, or the groups are too small.
-    pub(super) fn rebuild_by_groups(&mut self) -> bool {
+    pub(super) fn rebuild_by_groups(&mut self, budget: &Budget) -> bool {
         let Groups {
             layout,
             chunks: outs,
@@ -442,6 +451,7 @@ impl BroadPhase {
                 spans,
                 proxies,
                 joined,
+                budget,
                 out,
             };
             with_lane_type!(width, L => L::dispatch(work))
@@ -452,6 +462,9 @@ impl BroadPhase {
             each.for_each(|(c, out)| run(c, out));
         } else {
             run(0, &mut outs[0]);
+        }
+        if budget.spent() {
+            return true; // no pairs: the caller keeps none
         }
         let total = outs[..chunks].iter().map(|c| c.pairs.len()).sum();
         self.fat_pairs.resize(total, (0, 0)); // (every pair is written over)

@@ -153,6 +153,46 @@ const CELL_FACTOR: f32 = 6.0;
 /// limbs each.
 const LARGE_CELLS: i64 = 1024;
 
+/// Fat pairs an update may make per body, on top of [`MIN_PAIR_BUDGET`]: the landing rain
+/// keeps about 10 a body. Bodies that sweep far through a crowd in one step (a time step far too
+/// long for their speed) make pairs as the square of their number instead, 86 million for the
+/// rain at dt = 1 s: gigabytes, in one step.
+const PAIRS_PER_BODY: usize = 64;
+
+/// Fat pairs any update may make (see [`PAIRS_PER_BODY`]).
+const MIN_PAIR_BUDGET: usize = 1 << 20;
+
+/// The fat pairs an update among `bodies` bounded bodies may make.
+pub fn pair_budget(bodies: usize) -> usize {
+    MIN_PAIR_BUDGET + PAIRS_PER_BODY * bodies
+}
+
+/// The fat pairs a rebuild may still make, shared by the threads that make them; each takes
+/// its pairs in batches, so the budget is passed by at most a batch and a box's pairs a thread.
+#[derive(Debug)]
+pub(super) struct Budget(std::sync::atomic::AtomicI64);
+
+impl Budget {
+    /// Pairs a thread makes before it takes them from the budget.
+    pub(super) const BATCH: usize = 4096;
+
+    fn new(pairs: usize) -> Self {
+        Budget(std::sync::atomic::AtomicI64::new(pairs as i64))
+    }
+
+    /// Takes `pairs` from the budget; false once it is spent.
+    pub(super) fn take(&self, pairs: usize) -> bool {
+        let pairs = pairs as i64;
+        self.0
+            .fetch_sub(pairs, std::sync::atomic::Ordering::Relaxed)
+            >= pairs
+    }
+
+    fn spent(&self) -> bool {
+        self.0.load(std::sync::atomic::Ordering::Relaxed) < 0
+    }
+}
+
 /// One chunk of cells' output, and its scratch copy of a cell's boxes.
 #[derive(Clone, Debug, Default)]
 struct ChunkPairs {
@@ -241,6 +281,10 @@ pub struct BroadPhase {
     /// Rebuilds of the fat pairs so far, by groups or from the grid (a settled world rebuilds
     /// rarely).
     pub rebuilds: u64,
+    /// The fat pairs this update may make ([`PAIRS_PER_BODY`]).
+    pair_budget: usize,
+    /// Updates that stopped at their pair budget so far: each left no pairs at all.
+    pub overflows: u64,
     /// Where the last update's time went.
     timing: UpdateTiming,
 }
@@ -293,9 +337,14 @@ impl BroadPhase {
 
     /// Brings the fat boxes and the kept pairs up to this step's bodies. Returns false when
     /// nothing moves (then there are no pairs).
+    ///
+    /// Past its pair budget ([`PAIRS_PER_BODY`]) an update stops, keeps no pairs, counts one
+    /// more of [`Self::overflows`] and returns false: the run must stop, as its bodies have
+    /// exploded out of reach of the method.
     pub fn update(&mut self, bodies: &[Collider], dt: f32, margin: f32) -> bool {
         let start = Instant::now();
         self.timing = UpdateTiming::default();
+        let overflows = self.overflows;
         let mut rebuild = std::mem::take(&mut self.joined_changed);
         if self.proxies.len() + self.half_spaces.len() != bodies.len() {
             self.fat_pairs.clear(); // indices into the old proxies: their bounds mean nothing now
@@ -315,6 +364,7 @@ impl BroadPhase {
             rebuild = true;
         }
         self.margin = margin;
+        self.pair_budget = pair_budget(self.proxies.len());
         self.tight.resize(self.proxies.len(), Aabb::default());
         let boxes = |(proxy, tight): (&mut Proxy, &mut Aabb)| {
             let body = &bodies[proxy.body as usize];
@@ -367,7 +417,7 @@ impl BroadPhase {
             self.rebuild();
         }
         self.timing.pairs = boxes_done.elapsed().as_secs_f64();
-        true
+        self.overflows == overflows
     }
 
     /// Where the last [`Self::update`]'s time went.

@@ -8,9 +8,10 @@ use super::{gaps, BroadPhase, LARGE_CELLS, REBUILD_MOVED};
 impl BroadPhase {
     /// The grid and the fat pairs after the bodies in `moved` got new fat boxes: their grid
     /// entries replaced by their new cells, their pairs dropped and found again through the
-    /// grid (a pair of two moved bodies from the lower one). Returns false, with nothing
-    /// changed, when the grid should be rebuilt instead: more than [`REBUILD_MOVED`] of the
-    /// bodies moved, or a box grew too large for the grid.
+    /// grid (a pair of two moved bodies from the lower one). Returns false, with the pairs
+    /// unchanged, when they should be rebuilt instead: more than [`REBUILD_MOVED`] of the
+    /// bodies moved, a box grew too large for the grid, or the moved bodies' pairs pass the
+    /// pair budget (the rebuild stops at it).
     pub(super) fn update_moved(&mut self) -> bool {
         if self.moved.len() > (self.proxies.len() / REBUILD_MOVED).max(64) {
             return false;
@@ -92,6 +93,9 @@ impl BroadPhase {
                 if key(corner) == cell && !self.joined.contains(a.body, b.body) {
                     self.found.push((m.min(i), m.max(i)));
                 }
+            }
+            if self.found.len() > self.pair_budget {
+                return false; // the rebuild stops at the budget
             }
         }
         // kept pairs keep their bounds, found ones start unknown (one merge)

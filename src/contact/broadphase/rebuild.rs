@@ -5,7 +5,7 @@
 
 use super::grid::{cell_span, fill_column, for_each_cell, sort_entries, KEY_MASK};
 use super::pair_sort::{sort_pairs, IndexRuns};
-use super::{gaps, BroadPhase, CellBox, CellLanes, ChunkPairs, Joined, Proxy};
+use super::{gaps, BroadPhase, Budget, CellBox, CellLanes, ChunkPairs, Joined, Proxy};
 use super::{CELL_FACTOR, COUNTED_SORT, LARGE_CELLS, PARALLEL_SORT, PARALLEL_SWEEP};
 use crate::lanes::{Lane, LaneWidth, LaneWork, MAX_LANES};
 use crate::with_lane_type;
@@ -18,10 +18,17 @@ impl BroadPhase {
         self.refresh_boxes();
         std::mem::swap(&mut self.fat_pairs, &mut self.old_pairs);
         std::mem::swap(&mut self.gaps, &mut self.old_gaps);
-        self.grid_stale = !self.grid_only && self.rebuild_by_groups();
+        let budget = Budget::new(self.pair_budget);
+        self.grid_stale = !self.grid_only && self.rebuild_by_groups(&budget);
         if !self.grid_stale {
             self.enter_entries();
-            self.sweep_cells();
+            self.sweep_cells(&budget);
+        }
+        if budget.spent() {
+            // no pairs, and the next update rebuilds them
+            self.fat_pairs.clear();
+            self.overflows += 1;
+            self.joined_changed = true;
         }
         gaps::carry(
             &self.old_pairs,
@@ -33,7 +40,7 @@ impl BroadPhase {
 
     /// The fat pairs from the grid: each cell's boxes swept on several threads, the pairs
     /// sorted.
-    fn sweep_cells(&mut self) {
+    fn sweep_cells(&mut self, budget: &Budget) {
         let threads = rayon::current_num_threads();
         let chunks = if threads > 1 && self.entries.len() >= PARALLEL_SWEEP {
             4 * threads
@@ -56,17 +63,14 @@ impl BroadPhase {
                 .enumerate()
                 .for_each(|(c, out)| {
                     let entries = &entries[bounds[c]..bounds[c + 1]];
-                    cell_pairs(width, entries, proxies, joined, runs, out)
+                    cell_pairs(width, entries, proxies, joined, (runs, budget), out)
                 });
         } else {
-            cell_pairs(
-                width,
-                entries,
-                proxies,
-                joined,
-                runs,
-                &mut self.chunk_pairs[0],
-            );
+            let out = &mut self.chunk_pairs[0];
+            cell_pairs(width, entries, proxies, joined, (runs, budget), out);
+        }
+        if budget.spent() {
+            return;
         }
         let parts = &self.chunk_pairs[..chunks];
         let sorted = (&mut self.fat_pairs, &mut self.merged);
@@ -170,7 +174,7 @@ fn cell_pairs(
     entries: &[(u64, u32)],
     proxies: &[Proxy],
     joined: &Joined,
-    runs: IndexRuns,
+    (runs, budget): (IndexRuns, &Budget),
     out: &mut ChunkPairs,
 ) {
     let work = CellPairs {
@@ -178,6 +182,7 @@ fn cell_pairs(
         proxies,
         joined,
         runs,
+        budget,
         out,
     };
     with_lane_type!(width, L => L::dispatch(work))
@@ -189,6 +194,7 @@ struct CellPairs<'a> {
     proxies: &'a [Proxy],
     joined: &'a Joined,
     runs: IndexRuns,
+    budget: &'a Budget,
     out: &'a mut ChunkPairs,
 }
 
@@ -201,9 +207,10 @@ impl<L: Lane> LaneWork<L> for CellPairs<'_> {
             proxies,
             joined,
             runs,
+            budget,
             out,
         } = self;
-        cell_pairs_in::<L>(entries, proxies, joined, runs, out)
+        cell_pairs_in::<L>(entries, proxies, joined, (runs, budget), out)
     }
 }
 
@@ -213,7 +220,7 @@ fn cell_pairs_in<L: Lane>(
     entries: &[(u64, u32)],
     proxies: &[Proxy],
     joined: &Joined,
-    runs: IndexRuns,
+    (runs, budget): (IndexRuns, &Budget),
     out: &mut ChunkPairs,
 ) {
     // (grown, never shrunk: the runs' lists keep their storage from rebuild to rebuild)
@@ -221,6 +228,7 @@ fn cell_pairs_in<L: Lane>(
         out.runs.resize_with(runs.count(), Vec::new);
     }
     out.runs[..runs.count()].iter_mut().for_each(Vec::clear);
+    let mut unpaid = 0;
     let mut start = 0;
     while start < entries.len() {
         let cell_key = entries[start].0;
@@ -256,11 +264,16 @@ fn cell_pairs_in<L: Lane>(
                 if a.group != b.group || !joined.contains(a.body, b.body) {
                     let (low, high) = (a.index.min(b.index), a.index.max(b.index));
                     out.runs[runs.of(low)].push((low, high));
+                    unpaid += 1;
                 }
             });
+            if unpaid >= Budget::BATCH && !budget.take(std::mem::take(&mut unpaid)) {
+                return;
+            }
         }
         start = end;
     }
+    budget.take(unpaid);
 }
 
 /// [`CellBox::code`]'s five bits.

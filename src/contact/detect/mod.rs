@@ -269,6 +269,12 @@ impl Detection {
         };
     }
 
+    /// Detections so far that stopped at the broad phase's pair budget, with no points
+    /// ([`BroadPhase::update`]).
+    pub fn pair_overflows(&self) -> u64 {
+        self.broad_phase.overflows
+    }
+
     /// Where the last detection's time went ([`DetectionProfile`]).
     pub fn profile(&self) -> &DetectionProfile {
         &self.profile

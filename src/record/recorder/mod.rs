@@ -14,9 +14,10 @@ use super::bodies::{
     shape_poses, sleep_colors, BodyBatch,
 };
 use super::columns::ScalarColumns;
+use super::file::{self, flush};
 use super::style::{fixed_color, spine_color};
 use super::tracks::{Track, TrackKind};
-use super::{flush, RecordingInfo, FLUSH_WALL_S};
+use super::{RecordingInfo, FLUSH_WALL_S};
 use crate::body::{BodyId, BodyKind};
 use crate::constraint::Constraint;
 use crate::lab::Lab;
@@ -158,14 +159,15 @@ impl Recorder {
         &self.rec
     }
 
-    /// After a whole run: its final state hash (`state_hash`, static text), then a flush.
+    /// After a whole run: its final state hash (`state_hash`, static text), then the file's
+    /// end ([`file::finish`]): an error if any of the recording could not be written.
     pub fn finish(&mut self, report: &crate::sim::RunReport) -> anyhow::Result<()> {
         self.rec.log_static(
             "state_hash",
             &rerun::TextDocument::new(format!("{:016x}", report.state_hash)),
         )?;
         self.send()?;
-        flush(&self.rec)
+        file::finish(&self.rec)
     }
 
     /// Sends every buffered track and scalar series, one chunk each.
