@@ -273,7 +273,10 @@ impl<L: Lane, B: Lanes> LaneWork<L> for SolveBatches<'_, B> {
     type Output = ();
     #[inline(always)]
     fn run(self) {
-        self.0.iter_mut().for_each(|b| b.solve(self.1));
+        // (a loop, not a closure: a closure's body would compile outside the function)
+        for batch in self.0.iter_mut() {
+            batch.solve(self.1);
+        }
     }
 }
 

@@ -10,7 +10,7 @@
 //!   (chain b).
 
 use crate::constraint::rod::arc_point;
-use crate::math::{Quat, Vec3};
+use crate::math::Vec3;
 
 /// Points of a chain (origin, corners, end) bent by `psi` shared in `weights` (summing to 1).
 pub fn chain_points(length: f32, psi: f32, weights: &[f32]) -> Vec<Vec3> {
@@ -23,7 +23,7 @@ pub fn chain_points(length: f32, psi: f32, weights: &[f32]) -> Vec<Vec3> {
         let segment = if i == 0 { 0.5 } else { 1.0 } * length / n as f32;
         p += segment * direction;
         points.push(p);
-        direction = Quat::from_rotation_x(psi * weight) * direction;
+        direction = crate::math::quat_from_rotation_x(psi * weight) * direction;
     }
     p += length / (2 * n) as f32 * direction;
     points.push(p);
@@ -32,7 +32,7 @@ pub fn chain_points(length: f32, psi: f32, weights: &[f32]) -> Vec<Vec3> {
 
 /// Points along the rod (arc) bent by `psi`.
 pub fn rod_points(length: f32, psi: f32, samples: usize) -> Vec<Vec3> {
-    let tb = Quat::from_rotation_x(psi) * Vec3::Y;
+    let tb = crate::math::quat_from_rotation_x(psi) * Vec3::Y;
     (0..samples)
         .map(|i| {
             arc_point(

@@ -4,9 +4,10 @@
 pub use glam::{Mat3, Quat, Vec3};
 
 // Transcendental functions from one implementation, the `libm` crate (a Rust port of musl's,
-// after Sun's fdlibm), as glam's are with its `libm` feature: the C library's differ between
-// platforms and versions, and glibc picks a variant by the CPU it runs on, so results would
-// depend on the machine. Square roots are exact everywhere and need none of this.
+// after Sun's fdlibm): the C library's differ between platforms and versions, and glibc picks
+// a variant by the CPU it runs on, so results would depend on the machine. glam's rotations
+// that take an angle call the C library's, so the quaternions made from angles are built
+// here. Square roots are exact everywhere and need none of this.
 
 /// `atan2(y, x)` (rad).
 #[inline]
@@ -42,6 +43,66 @@ pub fn exp(x: f32) -> f32 {
 #[inline]
 pub fn powf(x: f32, y: f32) -> f32 {
     libm::powf(x, y)
+}
+
+/// Arc cosine (rad).
+#[inline]
+pub fn acos(x: f32) -> f32 {
+    libm::acosf(x)
+}
+
+/// The rotation by `angle` (rad) about the unit `axis` (glam's `Quat::from_axis_angle`).
+pub fn quat_from_axis_angle(axis: Vec3, angle: f32) -> Quat {
+    let (s, c) = libm::sincosf(0.5 * angle);
+    let v = axis * s;
+    Quat::from_xyzw(v.x, v.y, v.z, c)
+}
+
+/// The rotation by `angle` (rad) about x.
+pub fn quat_from_rotation_x(angle: f32) -> Quat {
+    quat_from_axis_angle(Vec3::X, angle)
+}
+
+/// The rotation by `angle` (rad) about y.
+pub fn quat_from_rotation_y(angle: f32) -> Quat {
+    quat_from_axis_angle(Vec3::Y, angle)
+}
+
+/// The rotation by `angle` (rad) about z.
+pub fn quat_from_rotation_z(angle: f32) -> Quat {
+    quat_from_axis_angle(Vec3::Z, angle)
+}
+
+/// The shortest rotation taking the unit `from` to the unit `to` (glam's
+/// `Quat::from_rotation_arc`, whose half turn for opposite vectors is made here).
+pub fn quat_from_rotation_arc(from: Vec3, to: Vec3) -> Quat {
+    const ONE_MINUS_EPS: f32 = 1.0 - 2.0 * f32::EPSILON;
+    let dot = from.dot(to);
+    if dot > ONE_MINUS_EPS {
+        Quat::IDENTITY
+    } else if dot < -ONE_MINUS_EPS {
+        quat_from_axis_angle(from.any_orthonormal_vector(), std::f32::consts::PI)
+    } else {
+        let c = from.cross(to);
+        Quat::from_xyzw(c.x, c.y, c.z, 1.0 + dot).normalize()
+    }
+}
+
+/// Spherical interpolation from `a` (at `s = 0`) to `b` (at 1) along the shorter arc (glam's
+/// `Quat::slerp`, with the arc cosine and sines above).
+pub fn quat_slerp(a: Quat, b: Quat, s: f32) -> Quat {
+    let mut dot = a.dot(b);
+    let b = if dot < 0.0 {
+        dot = -dot;
+        -b
+    } else {
+        b
+    };
+    if dot > 1.0 - f32::EPSILON {
+        return a.lerp(b, s);
+    }
+    let theta = acos(dot);
+    (a * sin(theta * (1.0 - s)) + b * sin(theta * s)) * (1.0 / sin(theta))
 }
 
 /// A rigid transform: rotation then translation.
@@ -103,7 +164,7 @@ pub fn quat_from_rotation_vector(v: Vec3) -> Quat {
         let s = 0.5 - angle * angle / 48.0;
         return Quat::from_xyzw(v.x * s, v.y * s, v.z * s, 1.0 - angle * angle / 8.0).normalize();
     }
-    Quat::from_axis_angle(v / angle, angle)
+    quat_from_axis_angle(v / angle, angle)
 }
 
 /// Rotation vector (axis times angle in [-pi, pi]) of `q`: the logarithm map, shortest arc.

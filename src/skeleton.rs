@@ -215,7 +215,7 @@ impl Skeleton {
         bones.origins[0] = self.placed_by_body(world, 0).translation;
         for k in 0..BONES {
             let s = k as f32 / (BONES - 1) as f32;
-            let rotation_change = pelvis_change.slerp(chest_change, s);
+            let rotation_change = crate::math::quat_slerp(pelvis_change, chest_change, s);
             bones.rotations[k] = (rotation_change * t.rotations[k]).normalize();
             if k + 1 < BONES {
                 bones.origins[k + 1] =

@@ -1,6 +1,6 @@
 //! The scalar code's own arithmetic on lanes, to the bit, where the SIMD solver must compute a
 //! per-substep constant exactly as the scalar reference does: glam's quaternion product in its
-//! SSE2 operation order, and the twist through [`maths::atan2`], which is the scalar code's
+//! SSE2 operation order, and the twist through [`maths::atan2_libm`], which is the scalar code's
 //! `atan2` ([`crate::math::atan2`]) to the bit. The joints' starting twist ([`start_twist`]) was
 //! computed lane by lane with the scalar calls, a tenth of the 1000-ragdoll rain's integrate
 //! phase.
@@ -27,7 +27,7 @@ pub fn start_twist<L: Lane>(frame_a: Q<L>, frame_b: Q<L>) -> L {
     let q = quat_mul(frame_a.conjugate(), frame_b);
     // glam's `Vec3::dot` with the x axis, with its additions of signed zeros
     let projection = (q.x * L::splat(1.0) + q.y * L::splat(0.0)) + q.z * L::splat(0.0);
-    let angle = L::splat(2.0) * maths::atan2(projection, q.w);
+    let angle = L::splat(2.0) * maths::atan2_libm(projection, q.w);
     // `wrap_angle`: below a full turn its `a % TAU` is `a` itself; a full turn (or NaN) takes
     // the scalar function, whose remainder keeps the sign of a zero
     let (pi, tau) = (

@@ -2,10 +2,12 @@
 //! subtract, multiply, divide, compare, select; nothing fused, nothing estimated), so every lane
 //! type and width gives the same bits.
 //!
-//! - [`atan2`] is the `libm` crate's `atan2f` (FreeBSD's, after Sun's fdlibm of 1993) to the bit,
-//!   the function the scalar code calls ([`crate::math::atan2`]): its reduction of the argument
-//!   to one of five ranges, then odd and even polynomials. Lanes it does not cover (infinite,
-//!   NaN or subnormal inputs) take the library per lane.
+//! - [`atan2`], the kernels': Agner Fog's vector class library's method, one division.
+//! - [`atan2_libm`] is the `libm` crate's `atan2f` (FreeBSD's, after Sun's fdlibm of 1993) to
+//!   the bit, the function the scalar code calls ([`crate::math::atan2`]), for the lanes that
+//!   must give the scalar code's bits: its reduction of the argument to one of five ranges,
+//!   then odd and even polynomials. Lanes it does not cover (infinite, NaN or subnormal inputs)
+//!   take the library per lane.
 //! - [`sin_cos`] reduces by pi/2 in three parts (Cody and Waite) and evaluates Cephes' `sinf`
 //!   and `cosf` polynomials; within about 2 ulp of the true values up to 6000 rad, past which
 //!   lanes take the library.
@@ -78,9 +80,47 @@ fn atan_positive<L: Lane>(t: L) -> L {
     t.lt(s(2f32.powi(-12))).select(t, result)
 }
 
-/// Per lane `atan2(y, x)`, `libm::atan2f` to the bit.
+/// Per lane `atan2(y, x)` (rad), within 4e-7 (2 ulp of pi) of the true angle: Agner Fog's
+/// vector class library's method (the octant's ratio, reduced once more past tan(pi/8), and a
+/// degree-9 odd polynomial), with one division. The kernels' angles; [`atan2_libm`] where the
+/// lanes must give the scalar code's bits.
 #[inline(always)]
 pub fn atan2<L: Lane>(y: L, x: L) -> L {
+    const P: [f32; 4] = [
+        8.05374449538e-2,
+        -1.38776856032e-1,
+        1.99777106478e-1,
+        -3.33329491539e-1,
+    ];
+    let s = L::splat;
+    let zero = L::zero();
+    let (ax, ay) = (x.abs(), y.abs());
+    // the first octant: t = small / large in [0, 1]
+    let swap = ay.gt(ax);
+    let (large, small) = (swap.select(ay, ax), swap.select(ax, ay));
+    // past tan(pi/8) ~ sqrt(2) - 1: atan(t) = pi/4 + atan((t - 1) / (t + 1)), in one division
+    let far = small.gt(s(std::f32::consts::SQRT_2 - 1.0) * large) | small.eq(large);
+    let numerator = far.select(small - large, small);
+    let denominator = far.select(small + large, large);
+    // 0 / 0 (both zero) gives NaN, replaced below
+    let z = numerator / denominator;
+    let zz = z * z;
+    let polynomial = ((s(P[0]) * zz + s(P[1])) * zz + s(P[2])) * zz + s(P[3]);
+    let mut angle = (polynomial * zz) * z + z + (far & s(std::f32::consts::FRAC_PI_4));
+    angle = swap.select(s(std::f32::consts::FRAC_PI_2) - angle, angle);
+    angle = (ax.eq(zero) & ay.eq(zero)).select(zero, angle);
+    // the quadrant from the signs, those of zeros included
+    #[inline(always)]
+    fn negative<L: Lane>(v: L) -> L {
+        ((v & L::splat(-0.0)) | L::splat(1.0)).lt(L::zero())
+    }
+    angle = negative(x).select(s(std::f32::consts::PI) - angle, angle);
+    negative(y).select(-angle, angle)
+}
+
+/// Per lane `atan2(y, x)`, `libm::atan2f` to the bit.
+#[inline(always)]
+pub fn atan2_libm<L: Lane>(y: L, x: L) -> L {
     const PI: f32 = 3.1415927410e+00;
     const PI_LO: f32 = -8.7422776573e-08;
     let s = L::splat;
@@ -261,7 +301,7 @@ pub(super) mod tests {
     /// then ratios up to 2^40 and down to 2^-40), the special values, and the five ranges'
     /// edges: every lane is `libm::atan2f`, to the bit.
     #[test]
-    fn atan2_is_libms_to_the_bit() {
+    fn atan2_libm_is_libms_to_the_bit() {
         let mut unit = floats(7, 1.0);
         let mut exponent = floats(11, 40.0);
         for round in 0..125_000 {
@@ -272,7 +312,7 @@ pub(super) mod tests {
                 (y, W::from_fn(|_| unit()))
             };
             same_bits(
-                atan2(y, x),
+                atan2_libm(y, x),
                 |i| libm::atan2f(y.at(i), x.at(i)),
                 "random",
                 |i| format!("{:e} {:e} ratio {:e}", y.at(i), x.at(i), y.at(i) / x.at(i)),
@@ -305,7 +345,7 @@ pub(super) mod tests {
                     let (yl, xl) = (W::splat(sign * y), W::splat(x));
                     let scalar = libm::atan2f(sign * y, x);
                     let what = format!("atan2({}, {x})", sign * y);
-                    same_bits(atan2(yl, xl), |_| scalar, &what, |_| String::new());
+                    same_bits(atan2_libm(yl, xl), |_| scalar, &what, |_| String::new());
                 }
             }
         }
@@ -321,12 +361,57 @@ pub(super) mod tests {
             for x in [1.0f32, 3.0, -3.0] {
                 let y = W::from_fn(|i| f32::from_bits((edge * x.abs()).to_bits() - 8 + i as u32));
                 same_bits(
-                    atan2(y, W::splat(x)),
+                    atan2_libm(y, W::splat(x)),
                     |i| libm::atan2f(y.at(i), x),
                     "edges",
                     |i| format!("{:e}", y.at(i)),
                 );
             }
+        }
+    }
+
+    /// The kernels' `atan2` within 4e-7 rad (under 2 ulp of pi) of the true angle over every quadrant, ratios
+    /// from 2^-40 to 2^40, zeros of either sign, and infinities.
+    #[test]
+    fn atan2_is_within_a_few_ulp_of_the_true_angle() {
+        let mut unit = floats(23, 1.0);
+        let mut exponent = floats(29, 40.0);
+        let mut worst = 0.0f64;
+        for round in 0..50_000 {
+            let y = W::from_fn(|_| {
+                unit()
+                    * if round % 2 == 0 {
+                        1.0
+                    } else {
+                        2f32.powf(exponent())
+                    }
+            });
+            let x = W::from_fn(|_| unit());
+            let got = atan2(y, x);
+            for i in 0..16 {
+                let truth = (y.at(i) as f64).atan2(x.at(i) as f64);
+                worst = worst.max((got.at(i) as f64 - truth).abs());
+            }
+        }
+        assert!(worst < 4e-7, "largest error {worst:e}");
+        for (y, x) in [
+            (0.0f32, 1.0f32),
+            (-0.0, 1.0),
+            (0.0, -1.0),
+            (-0.0, -1.0),
+            (0.0, 0.0),
+            (-0.0, -0.0),
+            (1.0, 0.0),
+            (-1.0, -0.0),
+            (f32::INFINITY, 1.0),
+            (1.0, f32::NEG_INFINITY),
+        ] {
+            let got = atan2(W::splat(y), W::splat(x)).at(0);
+            let want = y.atan2(x);
+            assert!(
+                (got - want).abs() < 4e-7 && got.is_sign_negative() == want.is_sign_negative(),
+                "atan2({y}, {x}): {got} against {want}"
+            );
         }
     }
 
@@ -395,6 +480,7 @@ pub(super) mod tests {
                 let (a, b): (W, W) = (W::from_fn(|_| f()), W::from_fn(|_| f() * f()));
                 let reference = [
                     atan2(a, b),
+                    atan2_libm(a, b),
                     sin_cos(a).0,
                     sin_cos(a).1,
                     exp(b),
@@ -412,6 +498,7 @@ pub(super) mod tests {
                     let [la, lb] = lanes(part);
                     let got = [
                         atan2(la, lb),
+                        atan2_libm(la, lb),
                         sin_cos(la).0,
                         sin_cos(la).1,
                         exp(lb),

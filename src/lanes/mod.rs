@@ -87,12 +87,9 @@ impl LaneWidth {
         match self {
             LaneWidth::W4 => true,
             #[cfg(target_arch = "x86_64")]
-            LaneWidth::W8 => {
-                std::arch::is_x86_feature_detected!("avx2")
-                    && std::arch::is_x86_feature_detected!("fma")
-            }
+            LaneWidth::W8 => x86_64_v3(),
             #[cfg(target_arch = "x86_64")]
-            LaneWidth::W16 => std::arch::is_x86_feature_detected!("avx512f"),
+            LaneWidth::W16 => x86_64_v3() && std::arch::is_x86_feature_detected!("avx512f"),
             #[cfg(not(target_arch = "x86_64"))]
             _ => false,
         }
@@ -137,6 +134,15 @@ impl Default for LaneWidth {
     fn default() -> Self {
         LaneWidth::detect()
     }
+}
+
+/// Whether the CPU has x86-64-v3's instructions (AVX2, FMA, BMI1 and 2, LZCNT, POPCNT), which
+/// the 8- and 16-lane functions are compiled with (none of them fuses a multiply and an add
+/// the code writes apart: Rust never contracts them).
+#[cfg(target_arch = "x86_64")]
+fn x86_64_v3() -> bool {
+    use std::arch::is_x86_feature_detected as has;
+    has!("avx2") && has!("fma") && has!("bmi1") && has!("bmi2") && has!("lzcnt") && has!("popcnt")
 }
 
 /// Work run on one lane type in a function compiled for its instruction set

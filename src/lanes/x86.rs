@@ -352,7 +352,7 @@ impl Lane for F32x8 {
     }
     #[inline(always)]
     fn dispatch<K: LaneWork<Self>>(work: K) -> K::Output {
-        #[target_feature(enable = "avx,avx2,fma")]
+        #[target_feature(enable = "avx,avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
         unsafe fn run<K: LaneWork<F32x8>>(work: K) -> K::Output {
             work.run()
         }
@@ -488,7 +488,7 @@ impl Lane for F32x16 {
     }
     #[inline(always)]
     fn dispatch<K: LaneWork<Self>>(work: K) -> K::Output {
-        #[target_feature(enable = "avx512f,avx,avx2,fma")]
+        #[target_feature(enable = "avx512f,avx,avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
         unsafe fn run<K: LaneWork<F32x16>>(work: K) -> K::Output {
             work.run()
         }

@@ -69,10 +69,10 @@ pub(super) enum FrameAxis {
 impl FrameAxis {
     pub(super) fn rotation(self) -> Quat {
         match self {
-            FrameAxis::Up => Quat::from_rotation_z(FRAC_PI_2),
-            FrameAxis::Down => Quat::from_rotation_z(-FRAC_PI_2),
+            FrameAxis::Up => crate::math::quat_from_rotation_z(FRAC_PI_2),
+            FrameAxis::Down => crate::math::quat_from_rotation_z(-FRAC_PI_2),
             FrameAxis::Left => Quat::IDENTITY,
-            FrameAxis::Right => Quat::from_rotation_y(std::f32::consts::PI),
+            FrameAxis::Right => crate::math::quat_from_rotation_y(std::f32::consts::PI),
         }
     }
 }

@@ -95,7 +95,7 @@ pub(super) fn body_batches(lab: &Lab, group: impl Fn(BodyId) -> String) -> Vec<B
                 half_height, axis, ..
             } => (
                 -half_height * axis.unit(),
-                Quat::from_rotation_arc(Vec3::Z, axis.unit()),
+                crate::math::quat_from_rotation_arc(Vec3::Z, axis.unit()),
             ),
             _ => (Vec3::ZERO, Quat::IDENTITY),
         };

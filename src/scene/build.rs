@@ -6,7 +6,7 @@ use super::{BodyDef, JointDef, KindDef, RagdollDef, Scene, SceneDef, SceneError,
 use crate::body::{Body, BodyId, BodyKind};
 use crate::constraint::{AngularLimit, BallSocket, Constraint, JointFlavour, Rod};
 use crate::lab::Lab;
-use crate::math::{quat_from_degrees, Iso, Quat, Vec3};
+use crate::math::{quat_from_degrees, Iso, Vec3};
 use crate::ragdoll::{HumanoidSpec, Ragdoll, RodParams};
 use crate::shape::Axis;
 use crate::shape::Shape;
@@ -156,7 +156,7 @@ fn build_joint(
     b: BodyId,
     default_flavour: JointFlavour,
 ) -> BallSocket {
-    let frame = Quat::from_rotation_arc(Vec3::X, Vec3::from(j.axis).normalize());
+    let frame = crate::math::quat_from_rotation_arc(Vec3::X, Vec3::from(j.axis).normalize());
     let mut joint = BallSocket::at_world_anchor(&j.name, bodies, a, b, Vec3::from(j.anchor), frame)
         .with_flavour(j.flavour.unwrap_or(default_flavour));
     if let Some([lo, hi]) = j.hinge {

@@ -307,8 +307,8 @@ impl Rod {
             .cross(tb)
             .try_normalize()
             .unwrap_or_else(|| any_perpendicular(ta));
-        let natural = Quat::from_axis_angle(bend_axis, psi * s) * fa;
-        let frame = natural * Quat::from_rotation_x(self.twist(fa, fb) * s);
+        let natural = crate::math::quat_from_axis_angle(bend_axis, psi * s) * fa;
+        let frame = natural * crate::math::quat_from_rotation_x(self.twist(fa, fb) * s);
         (point, frame.normalize())
     }
 }

@@ -16,7 +16,7 @@ pub fn measure_twist(mode: TwistMode, frame_a: Quat, frame_b: Quat) -> f32 {
 /// Signed twist about t_b: `F(1)` against `F(0)` carried along the arc by the minimal rotation
 /// taking t_a to t_b.
 pub fn twist_exact(frame_a: Quat, frame_b: Quat) -> f32 {
-    let transport = Quat::from_rotation_arc(frame_a * Vec3::X, frame_b * Vec3::X);
+    let transport = crate::math::quat_from_rotation_arc(frame_a * Vec3::X, frame_b * Vec3::X);
     twist_angle((transport * frame_a).inverse() * frame_b, Vec3::X)
 }
 

@@ -60,7 +60,7 @@ pub(super) fn chain(
             Constraint::Rod(rod)
         } else {
             let anchor = centre - HALF * along;
-            let frame = Quat::from_rotation_arc(Vec3::X, along);
+            let frame = crate::math::quat_from_rotation_arc(Vec3::X, along);
             Constraint::BallSocket(
                 BallSocket::at_world_anchor(name, &world.bodies, previous, link, anchor, frame)
                     .with_flavour(method.joint_flavour()),

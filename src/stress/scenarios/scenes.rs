@@ -181,7 +181,7 @@ fn spine_bend(spine: SpineKind, angle: f32) -> Vec<(String, Quat)> {
         SpineKind::Chain3 => &["lumbosacral", "thoracolumbar", "mid_thoracic"],
         SpineKind::Rod | SpineKind::Single => &["lumbosacral"],
     };
-    let each = Quat::from_rotation_x(angle / joints.len() as f32);
+    let each = crate::math::quat_from_rotation_x(angle / joints.len() as f32);
     joints.iter().map(|j| (j.to_string(), each)).collect()
 }
 
@@ -235,7 +235,7 @@ fn bend_rod(world: &mut World, ragdoll: &Ragdoll, psi: f32, move_pelvis: bool) {
     let (pelvis, chest) = (world.body(rod.body_a), world.body(rod.body_b));
     let (tangent, bend) = (
         pelvis.orientation * rod.local_frame_a * Vec3::X,
-        Quat::from_rotation_x(psi),
+        crate::math::quat_from_rotation_x(psi),
     );
     let (moved, parts, new_pose): (BodyId, &[&str], Iso) = if move_pelvis {
         // t_b stays; t_a = bend^-1 t_b, and p_a is where the arc from it ends at p_b.
