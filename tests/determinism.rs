@@ -136,6 +136,22 @@ const CASES: &[Case] = &[
         hash: 0xa99b_7863_d3b7_1dc1,
     },
     Case {
+        scene: "ragdoll_drop",
+        variant: Some("stacked"),
+        spine: Some(SpineKind::Chain3),
+        solver: SolverKind::Simd,
+        frames: 150,
+        hash: 0x8c02_b65a_efa6_59f0,
+    },
+    Case {
+        scene: "ragdoll_drop",
+        variant: Some("redetect_sweeps"),
+        spine: Some(SpineKind::Rod),
+        solver: SolverKind::Simd,
+        frames: 150,
+        hash: 0x0eba_ea99_f5c7_3e2e,
+    },
+    Case {
         scene: "ragdoll_rain",
         variant: None,
         spine: None,

@@ -13,6 +13,9 @@
 //! | `deepest_overlap_cm` | the deepest overlap over the run, found afresh on each frame's final poses |
 //! | `overlap_at_rest_mm` | the mean overlap of the points that overlap at the end ([`crate::world::World::overlap_at_rest`]) |
 //! | `mean_dislocation_cm` | the total dislocation over all ragdolls, mean over frames |
+//! | `settled_dislocation_cm` | the same over the run's second half, the pile settled |
+//! | `lowest_centre_m` | the lowest any dynamic body's centre went over the run (m) |
+//! | `state_hash` | the final state's hash ([`crate::world::World::state_hash`]), 16 hex digits |
 //! | `failed` | empty, or why the run stopped (NaN, an explosion: frame, body, constraint) |
 
 use std::path::Path;
@@ -21,7 +24,7 @@ use rayon::prelude::*;
 
 use crate::ragdoll::SpineKind;
 use crate::scene::{Overrides, Scene};
-use crate::sim::{self, NoObserver};
+use crate::sim;
 
 /// How one layout's run ended.
 #[derive(Clone, Debug)]
@@ -49,10 +52,16 @@ pub struct LayoutEnd {
     pub overlap_at_rest_mm: f32,
     /// The total dislocation over all ragdolls (cm), mean over frames.
     pub mean_dislocation_cm: f32,
+    /// The same over the second half of the frames, the pile settled (cm).
+    pub settled_dislocation_cm: f32,
+    /// The lowest any dynamic body's centre went over the run (m).
+    pub lowest_centre_m: f32,
+    /// The final state's hash ([`crate::world::World::state_hash`]).
+    pub state_hash: u64,
 }
 
 /// The CSV header (module docs).
-pub const LAYOUTS_HEADER: &str = "seed,spine,at_rest,still_moving,fastest,fastest_speed,all_asleep_from,deepest_overlap_cm,overlap_at_rest_mm,mean_dislocation_cm,failed";
+pub const LAYOUTS_HEADER: &str = "seed,spine,at_rest,still_moving,fastest,fastest_speed,all_asleep_from,deepest_overlap_cm,overlap_at_rest_mm,mean_dislocation_cm,settled_dislocation_cm,lowest_centre_m,state_hash,failed";
 
 /// Runs `scene` (its variant `variant`, then `overrides`) once per seed and spine, on several
 /// threads; the runs in the order of `seeds`, then `spines`. `overrides` must not set the seed
@@ -107,9 +116,15 @@ pub fn run_layouts(
 /// One layout's run to its end.
 fn run_one(scene: &Scene) -> Result<LayoutEnd, String> {
     let mut lab = scene.build().map_err(|e| format!("{e:#}"))?;
+    let mut lowest = f32::INFINITY;
+    let mut observer = |lab: &crate::lab::Lab, _: &crate::metrics::FrameMetrics| {
+        let dynamic = lab.world.bodies.iter().filter(|b| b.is_dynamic());
+        lowest = dynamic.map(|b| b.position.y).fold(lowest, f32::min);
+    };
     let report =
-        sim::run(&mut lab, scene.def.frames, &mut NoObserver).map_err(|e| format!("{e:#}"))?;
+        sim::run(&mut lab, scene.def.frames, &mut observer).map_err(|e| format!("{e:#}"))?;
     let frames = report.total_dislocation_cm.len().max(1) as f32;
+    let settled = &report.total_dislocation_cm[report.total_dislocation_cm.len() / 2..];
     Ok(LayoutEnd {
         still_moving: report.restless.len(),
         fastest: (report.restless.first()).map(|(name, r)| (name.clone(), r.point_speed)),
@@ -117,6 +132,9 @@ fn run_one(scene: &Scene) -> Result<LayoutEnd, String> {
         deepest_overlap_cm: report.max_overlap_cm,
         overlap_at_rest_mm: 1000.0 * lab.world.overlap_at_rest().2,
         mean_dislocation_cm: report.total_dislocation_cm.iter().sum::<f32>() / frames,
+        settled_dislocation_cm: settled.iter().sum::<f32>() / settled.len().max(1) as f32,
+        lowest_centre_m: lowest,
+        state_hash: report.state_hash,
     })
 }
 
@@ -139,11 +157,14 @@ pub fn layouts_csv(runs: &[LayoutRun]) -> String {
                     format!("{:.3}", end.deepest_overlap_cm),
                     format!("{:.3}", end.overlap_at_rest_mm),
                     format!("{:.3}", end.mean_dislocation_cm),
+                    format!("{:.3}", end.settled_dislocation_cm),
+                    format!("{:.3}", end.lowest_centre_m),
+                    format!("{:016x}", end.state_hash),
                     String::new(),
                 ]);
             }
             Err(why) => {
-                row.extend(std::iter::repeat_n(String::new(), 8));
+                row.extend(std::iter::repeat_n(String::new(), 11));
                 row.push(why.clone());
             }
         }
@@ -196,6 +217,9 @@ mod tests {
             deepest_overlap_cm: 1.5,
             overlap_at_rest_mm: 0.8,
             mean_dislocation_cm: 2.0,
+            settled_dislocation_cm: 1.5,
+            lowest_centre_m: 0.04,
+            state_hash: 0xabc,
         };
         let runs = [
             LayoutRun {
@@ -215,7 +239,8 @@ mod tests {
         assert_eq!(&rows[0].1[2], "true");
         assert_eq!(&rows[0].1[6], "300");
         assert_eq!(&rows[0].1[8], "0.800");
-        assert_eq!(&rows[1].1[10], "frame 9: body \"b\" exploded, badly");
+        assert_eq!(&rows[0].1[12], "0000000000000abc");
+        assert_eq!(&rows[1].1[13], "frame 9: body \"b\" exploded, badly");
         assert_eq!(&rows[1].1[2], "");
         assert_eq!(
             layouts_summary(&runs, 1.0),

@@ -68,6 +68,23 @@ fn decode_messages(path: &Path, strict: bool) -> Vec<Chunk> {
     chunks
 }
 
+/// Asserts a run's final state hash ([`rodlab::world::World::state_hash`]) is the committed
+/// one: a run of a chaotic scene (a pile: any change of rounding gives another) is pinned
+/// exactly, as Box2D's determinism test pins its falling ragdolls. When the physics changes on
+/// purpose, the failure names the new hash to commit (with `RODLAB_PRINT_HASHES` set, every
+/// hash is printed and none asserted, to collect them in one run).
+pub fn assert_state_hash(what: &str, hash: u64, committed: u64) {
+    if std::env::var_os("RODLAB_PRINT_HASHES").is_some() {
+        println!("state hash {what}: {hash:#018x}");
+        return;
+    }
+    assert!(
+        hash == committed,
+        "{what}: final state hash {hash:#018x}, committed {committed:#018x}; if the physics \
+         changed on purpose, commit the new hash"
+    );
+}
+
 /// Whether a component's full name (`"Points3D:labels"`) is `component` (`"labels"`, which
 /// `"Points3D:show_labels"` is not); any component for `""`.
 fn is_component(name: &str, component: &str) -> bool {

@@ -115,7 +115,7 @@ fn a_soft_contact_is_a_spring_of_its_frequency() {
 /// 27 boxes started in a 3x3x3 block, each overlapping its neighbours by half: the fastest box
 /// over 10 s and the time from which every box stays under 0.05 m/s, with the push-out capped
 /// at `push_speed` (m/s).
-fn overlapping_block(push_speed: f32) -> (f32, Option<f32>) {
+fn overlapping_block(push_speed: f32) -> (f32, Option<f32>, u64) {
     let mut world = World::new(Settings {
         contact_push_speed: push_speed,
         ..settings()
@@ -146,7 +146,7 @@ fn overlapping_block(push_speed: f32) -> (f32, Option<f32>) {
             false => None,
         };
     }
-    (peak, rest_since)
+    (peak, rest_since, world.state_hash())
 }
 
 /// Issue 10: boxes started overlapping by half separate no faster than 3 m/s and are at rest
@@ -156,11 +156,12 @@ fn overlapping_block(push_speed: f32) -> (f32, Option<f32>) {
 /// projection, uncapped, throws a box out at 22 m/s and rests only after 5.9 s.
 #[test]
 fn an_overlapping_block_of_boxes_separates_gently_and_comes_to_rest() {
-    let (peak, rest) = overlapping_block(1.0);
+    let (peak, rest, hash) = overlapping_block(1.0);
+    crate::common::assert_state_hash("block of 27 boxes", hash, 0x0eaa_517c_4be7_9e53);
     assert!(peak <= 3.0, "peak {peak} m/s");
     let rest = rest.expect("never at rest");
     assert!(rest <= 3.0, "at rest only from {rest} s");
-    let (uncapped, _) = overlapping_block(f32::INFINITY);
+    let (uncapped, _, _) = overlapping_block(f32::INFINITY);
     assert!(uncapped > 3.0 * peak, "uncapped peak {uncapped} m/s");
 }
 

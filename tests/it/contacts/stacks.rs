@@ -49,7 +49,12 @@ fn stack_of_five_boxes_stays_standing() {
 /// A pyramid of boxes (a base of `base`, 0.5 m each, touching side by side) after 10 s: the
 /// farthest any box moved sideways (m), the farthest any box moved at all (m) and the fastest
 /// box (m/s).
-fn box_pyramid_drift(base: usize, substeps: u32, iterations: u32, warm: f32) -> (f32, f32, f32) {
+fn box_pyramid_drift(
+    base: usize,
+    substeps: u32,
+    iterations: u32,
+    warm: f32,
+) -> (f32, f32, f32, u64) {
     let mut world = World::new(Settings {
         contact_warm_start: warm,
         substeps,
@@ -75,15 +80,17 @@ fn box_pyramid_drift(base: usize, substeps: u32, iterations: u32, warm: f32) -> 
     for _ in 0..600 {
         world.step().unwrap();
     }
-    boxes
-        .iter()
-        .fold((0.0f32, 0.0, 0.0), |(drift, moved, speed), &(id, start)| {
+    let (drift, moved, fastest) = (boxes.iter()).fold(
+        (0.0f32, 0.0f32, 0.0f32),
+        |(drift, moved, speed), &(id, start)| {
             let b = world.body(id);
             let d = b.position - start;
             let sideways = Vec3::new(d.x, 0.0, d.z).length();
             let fastest = speed.max(b.linear_velocity.length());
             (drift.max(sideways), moved.max(d.length()), fastest)
-        })
+        },
+    );
+    (drift, moved, fastest, world.state_hash())
 }
 
 /// Warm starting (issue 10): each substep's contacts start from a quarter of the impulse they
@@ -92,8 +99,10 @@ fn box_pyramid_drift(base: usize, substeps: u32, iterations: u32, warm: f32) -> 
 /// sideways and at rest after 10 s, against 21 mm without warm starting (the paper's method).
 #[test]
 fn warm_started_contacts_hold_a_box_pyramid() {
-    let (cold, _, _) = box_pyramid_drift(6, 1, 20, 0.0);
-    let (warm, _, fastest) = box_pyramid_drift(6, 1, 20, 0.25);
+    let (cold, _, _, cold_hash) = box_pyramid_drift(6, 1, 20, 0.0);
+    let (warm, _, fastest, warm_hash) = box_pyramid_drift(6, 1, 20, 0.25);
+    crate::common::assert_state_hash("pyramid of 6, cold", cold_hash, 0x2a06_6518_a15e_3ca1);
+    crate::common::assert_state_hash("pyramid of 6, warm", warm_hash, 0x95d1_fce9_6e49_326b);
     assert!(warm < 1e-3, "pyramid crept {warm} m");
     assert!(fastest < 1e-3, "a box still moves at {fastest} m/s");
     assert!(warm < cold, "warm {warm} m against cold {cold} m");
@@ -109,8 +118,13 @@ fn warm_started_contacts_hold_a_box_pyramid() {
 /// budgets; it holds when it may sleep, `a_ten_box_stack_that_may_sleep_stands_within_five_millimetres`.)
 #[test]
 fn a_ten_wide_box_pyramid_stands_within_five_millimetres() {
-    for (substeps, iterations) in [(4, 5), (2, 10)] {
-        let (_, moved, fastest) = box_pyramid_drift(10, substeps, iterations, 0.25);
+    for (substeps, iterations, hash) in [
+        (4, 5, 0x5866_b4ff_d50a_7871),
+        (2, 10, 0xbfd7_87f0_e03a_754f),
+    ] {
+        let (_, moved, fastest, end) = box_pyramid_drift(10, substeps, iterations, 0.25);
+        let what = format!("pyramid of 10, {substeps}x{iterations}");
+        crate::common::assert_state_hash(&what, end, hash);
         assert!(
             moved < 5e-3,
             "{substeps}x{iterations}: a box moved {moved} m"
@@ -159,6 +173,7 @@ fn a_ten_box_stack_that_may_sleep_stands_within_five_millimetres() {
             worst = worst.max((world.body(id).position - start).length());
         }
     }
+    crate::common::assert_state_hash("ten-box stack", world.state_hash(), 0xddc2_28d8_eb2c_66da);
     assert_eq!(world.awake_bodies, 0, "the stack is not asleep after 10 s");
     assert!(worst < 5e-3, "a box moved {worst} m from its start");
 }
