@@ -255,7 +255,7 @@ fn rain_step(c: &mut Criterion) {
         "\nthe rain, {RAIN_RUNS} runs of {RAIN_STEPS} consecutive steps (median of all), {} \
          thread(s), machine: {}",
         rayon::current_num_threads(),
-        rodlab::sweep::machine_name()
+        rodlab::machine::name()
     );
     println!(
         "case               step ms   steps/s   detect ms   detect us per ragdoll   \

@@ -22,7 +22,7 @@ use rodlab::scene::Scene;
 use rodlab::shape::{Axis, Shape};
 use rodlab::sim::{self, NoObserver, Overrides};
 use rodlab::solver::body::{pair_mut, SharedBodies, SolverBody};
-use rodlab::solver::Row;
+use rodlab::solver::{Row, ScalarRows};
 use std::time::Instant;
 
 const COUNT: usize = 64;
@@ -215,11 +215,10 @@ impl<T: Clone, L4, L8, L16> Packed<T, L4, L8, L16> {
         let shared = SharedBodies::new(&mut self.bodies);
         match width {
             Width::Scalar => {
-                for row in &mut self.rows {
-                    let (a, b) = row.bodies();
-                    // SAFETY: the benchmark's rows share no body, and one thread runs them.
-                    unsafe { shared.with_pair(a, b, |a, b| row.solve(a, b)) };
-                }
+                // the scalar kernel as the solver runs it, in the dispatched function
+                let rows = &mut self.rows[..];
+                let width = LaneWidth::detect();
+                rodlab::with_lane_type!(width, L => L::dispatch(ScalarRows { rows, bodies: shared }))
             }
             Width::W4 => F32x4::dispatch(SolveBatches(&mut self.w4, shared)),
             Width::W8 => F32x8::dispatch(SolveBatches(&mut self.w8, shared)),
@@ -404,7 +403,7 @@ fn summary() {
     println!(
         "\nns per constraint (fastest of 2000 rounds of {COUNT}), machine: {}; the SIMD solver \
          runs {widest} lanes here (a width this CPU does not run: NaN)",
-        rodlab::sweep::machine_name(),
+        rodlab::machine::name(),
     );
     println!(
         "{:<20} {:>8} {:>8} {:>8} {:>8} {:>8}",

@@ -14,7 +14,8 @@
 //! Module map:
 //! - [`math`]: glam re-exports, exponential map, swing-twist helpers;
 //! - [`shape`], [`body`]: shapes, mass and inertia, rigid bodies;
-//! - [`solver_body`]: the solver's hot 96-byte body; [`lanes`]: W-wide SIMD maths (Lane, V3, Q);
+//! - [`solver_body`]: the solver's hot 96-byte body; [`lanes`]: W-wide SIMD maths (Lane, V3, Q),
+//!   the lane width chosen at run time; [`machine`]: the CPU named beside timings;
 //! - [`constraint`]: one file per constraint kind (prepare, solve, measure), plus its `*_lanes`
 //!   batched solve;
 //! - [`contact`]: broad phase, narrow phase and contact points with friction;
@@ -51,6 +52,7 @@ pub mod csv_table;
 pub mod kinematics;
 pub mod lab;
 pub mod lanes;
+pub mod machine;
 pub mod math;
 pub mod metrics;
 /// Rapier as a peer engine for the sweep (feature `rapier`).

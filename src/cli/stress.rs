@@ -71,7 +71,7 @@ pub(super) fn stress(out: &Path) -> anyhow::Result<()> {
     report!("{markdown}");
     let md_path = out.join("stress.md");
     let csv_path = out.join("stress.csv");
-    let machine = crate::sweep::machine_name();
+    let machine = crate::machine::name();
     std::fs::write(
         &md_path,
         format!("# rodlab stress suite\n\nMachine: {machine}. Criteria: docs/lab.md, \"where methods fail\".\n\n{markdown}"),

@@ -36,7 +36,7 @@ pub(super) fn sweep(
         overrides.apply(&mut applied.def);
         (overrides.check_on(&applied)).map_err(|m| anyhow::anyhow!("{}: {m}", path.display()))?;
     }
-    let machine = sweep::machine_name();
+    let machine = crate::machine::name();
     let peer_runs = if peer.is_some() {
         let count = config.iterations.len() * config.dts.len().max(1);
         (first_peer..first_peer + count)

@@ -224,7 +224,7 @@ impl JointRow {
     }
 
     /// One projection of the preview poses: spring, limits, then the point.
-    #[inline]
+    #[inline(always)]
     pub fn solve(&self, a: &mut SolverBody, b: &mut SolverBody) {
         if let Some(spring) = self.spring {
             let target_b = a.orientation * spring.rest;

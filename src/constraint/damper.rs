@@ -91,7 +91,7 @@ impl DamperRow {
     }
 
     /// One projection: removes `relaxation` of the rotation `q_a q_rest q_b^-1`.
-    #[inline]
+    #[inline(always)]
     pub fn solve(&self, a: &mut SolverBody, b: &mut SolverBody) {
         if self.relaxation > 0.0 {
             let target_b = a.orientation * self.rest;

@@ -162,6 +162,7 @@ impl ContactPoint {
 
     /// One projection on the preview poses: the normal push (its accumulated impulse kept at or
     /// above zero), then friction on the anchors' slip within the Coulomb cone.
+    #[inline(always)]
     pub fn solve(&mut self, a: &mut SolverBody, b: &mut SolverBody) {
         let n = self.normal;
         let point_a = a.position + a.orientation * self.local_a;

@@ -216,6 +216,10 @@ pub trait Lane:
 {
     /// Number of lanes.
     const W: usize;
+    /// This lane type's width.
+    fn width() -> LaneWidth {
+        LaneWidth::from_lanes(Self::W).unwrap_or(LaneWidth::W4)
+    }
     /// All lanes set to `x`.
     fn splat(x: f32) -> Self;
     /// Lane `i` from `f(i)`.

@@ -91,8 +91,8 @@ use packed::{with_packs, WidthPacks};
 use profile::lap;
 pub use profile::Profile;
 use rayon::prelude::*;
-pub use rows::Row;
 use rows::{solve_colours, sweep};
+pub use rows::{Row, ScalarRows};
 pub use settings::{
     ContactDetection, Settings, SolverKind, DEFAULT_CONTACT_PUSH_SPEED, DEFAULT_MAX_ANGULAR_SPEED,
     DEFAULT_MAX_LINEAR_SPEED, DEFAULT_MAX_PENETRATION, DEFAULT_MAX_SEPARATION,
@@ -472,7 +472,8 @@ impl Solver {
         for pass in 0..settings.iterations + settings.contact_extra_sweeps {
             if pass < settings.iterations {
                 if !self.dampers.is_empty() {
-                    solve_colours(&mut self.dampers, &self.damper_colours, shared, parallel);
+                    let (dampers, colours) = (&mut self.dampers, &self.damper_colours);
+                    solve_colours(self.packs.width(), dampers, colours, shared, parallel);
                     self.profile.joints += lap(clock);
                 }
                 let (rods, colours) = (&mut self.rods, &self.rod_colours);

@@ -7,7 +7,8 @@ use super::packed::{self, Packed};
 use super::PARALLEL_MIN_ROWS;
 use crate::constraint::{DamperRow, JointRow, RodRow};
 use crate::contact::ContactPoint;
-use crate::lanes::Lane;
+use crate::lanes::{Lane, LaneWidth, LaneWork};
+use crate::with_lane_type;
 use rayon::prelude::*;
 
 /// One sweep over a kind's rows, colour by colour: from their packed lanes with the SIMD solver
@@ -24,30 +25,51 @@ pub(super) fn sweep<T: packed::LaneRows, L: Lane>(
     if let Some(lanes) = lanes {
         return lanes.solve(rows, bodies, parallel);
     }
-    solve_colours(rows, colours, bodies, parallel);
+    solve_colours(L::width(), rows, colours, bodies, parallel);
 }
 
-/// The scalar sweep of [`sweep`] (also the dampers', which have no lane kernel).
+/// The scalar sweep of [`sweep`] (also the dampers', which have no lane kernel). The rows run
+/// in a function compiled for the instructions of `width`'s lanes (their maths is scalar, but
+/// the wider instruction set's encodings and registers serve it too: 0.8x the time of the
+/// x86-64 baseline's code on the cheap joint, `benches/solver.rs`).
 pub(super) fn solve_colours<T: Row>(
+    width: LaneWidth,
     rows: &mut [T],
     colours: &Colours,
     bodies: SharedBodies,
     parallel: bool,
 ) {
-    let solve_row = |row: &mut T| {
-        let (a, b) = row.bodies();
-        // SAFETY: rows of a colour share no movable body, and chunks of a colour are
-        // disjoint; the overflow colour runs on one thread.
-        unsafe { bodies.with_pair(a, b, |a, b| row.solve(a, b)) };
-    };
+    let run =
+        |rows: &mut [T]| with_lane_type!(width, L => L::dispatch(ScalarRows { rows, bodies }));
     for (colour, range) in colours.ranges() {
         let rows = &mut rows[range];
         if parallel && !colours.is_overflow(colour) && rows.len() >= PARALLEL_MIN_ROWS {
             let chunk = rows.len().div_ceil(rayon::current_num_threads());
-            rows.par_chunks_mut(chunk)
-                .for_each(|rows| rows.iter_mut().for_each(solve_row));
+            rows.par_chunks_mut(chunk).for_each(run);
         } else {
-            rows.iter_mut().for_each(solve_row);
+            run(rows);
+        }
+    }
+}
+
+/// A run of rows solved one after another by the scalar kernel.
+pub struct ScalarRows<'a, T> {
+    /// The rows; the movable bodies of any two of them are the same only if they run in this
+    /// order (one colour's rows share none; the overflow colour's run here one at a time).
+    pub rows: &'a mut [T],
+    /// The bodies they move.
+    pub bodies: SharedBodies,
+}
+
+impl<T: Row, L: Lane> LaneWork<L> for ScalarRows<'_, T> {
+    type Output = ();
+    #[inline(always)]
+    fn run(self) {
+        for row in self.rows.iter_mut() {
+            let (a, b) = row.bodies();
+            // SAFETY: rows of a colour share no movable body, and chunks of a colour are
+            // disjoint; the overflow colour runs on one thread.
+            unsafe { self.bodies.with_pair(a, b, |a, b| row.solve(a, b)) };
         }
     }
 }
@@ -64,7 +86,7 @@ impl Row for JointRow {
     fn bodies(&self) -> (u32, u32) {
         (self.body_a, self.body_b)
     }
-    #[inline]
+    #[inline(always)]
     fn solve(&mut self, a: &mut SolverBody, b: &mut SolverBody) {
         JointRow::solve(self, a, b)
     }
@@ -74,7 +96,7 @@ impl Row for DamperRow {
     fn bodies(&self) -> (u32, u32) {
         (self.body_a, self.body_b)
     }
-    #[inline]
+    #[inline(always)]
     fn solve(&mut self, a: &mut SolverBody, b: &mut SolverBody) {
         DamperRow::solve(self, a, b)
     }
@@ -84,7 +106,7 @@ impl Row for RodRow {
     fn bodies(&self) -> (u32, u32) {
         (self.body_a, self.body_b)
     }
-    #[inline]
+    #[inline(always)]
     fn solve(&mut self, a: &mut SolverBody, b: &mut SolverBody) {
         RodRow::solve(self, a, b)
     }
@@ -94,7 +116,7 @@ impl Row for ContactPoint {
     fn bodies(&self) -> (u32, u32) {
         (self.body_a.0, self.body_b.0)
     }
-    #[inline]
+    #[inline(always)]
     fn solve(&mut self, a: &mut SolverBody, b: &mut SolverBody) {
         ContactPoint::solve(self, a, b)
     }

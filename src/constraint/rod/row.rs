@@ -122,6 +122,7 @@ impl RodRow {
     }
 
     /// One projection of bend, twist, curve and length, sharing the geometry (§7).
+    #[inline(always)]
     pub fn solve(&mut self, a: &mut SolverBody, b: &mut SolverBody) {
         let (fa, fb) = (a.orientation * self.frame_a, b.orientation * self.frame_b);
         let (ta, tb) = (fa * Vec3::X, fb * Vec3::X);
