@@ -8,7 +8,7 @@ use crate::sim::RunReport;
 /// state hash, the residuals, penetration, sleep and phase times.
 pub fn print_summary(name: &str, scene: &Scene, report: &RunReport) {
     report!(
-        "{name}: {} frames, dt {:.4} s, {} substep(s) x {} iterations{}, {} solver on {} \
+        "{name}: {} frames, dt {:.4} s, {} substep(s) x {} iterations{}, {} solver{} on {} \
          thread(s), {:.0} steps/s (stepping only), energy {:.1} J -> {:.1} J, state hash {:016x}",
         report.frames,
         scene.def.dt,
@@ -19,6 +19,12 @@ pub fn print_summary(name: &str, scene: &Scene, report: &RunReport) {
             n => format!(" + {n} contact sweeps"),
         },
         scene.def.solver,
+        match scene.def.solver {
+            crate::world::SolverKind::Simd => {
+                format!(" ({} lanes)", crate::lanes::LaneWidth::detect().lanes())
+            }
+            crate::world::SolverKind::Scalar => String::new(),
+        },
         rayon::current_num_threads(),
         report.steps_per_second(),
         report.initial_energy,
