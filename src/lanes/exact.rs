@@ -1,9 +1,9 @@
 //! The scalar code's own arithmetic on lanes, to the bit, where the SIMD solver must compute a
 //! per-substep constant exactly as the scalar reference does: glam's quaternion product in its
 //! SSE2 operation order, and the twist through [`maths::atan2_libm`], which is the scalar code's
-//! `atan2` ([`crate::math::atan2`]) to the bit. The joints' starting twist ([`start_twist`]) was
-//! computed lane by lane with the scalar calls, a tenth of the 1000-ragdoll rain's integrate
-//! phase.
+//! `atan2` ([`crate::math::atan2`]) to the bit. The joints' starting twist ([`start_twist`]),
+//! computed lane by lane with the scalar calls, would take a tenth of the 1000-ragdoll rain's
+//! integrate phase.
 
 use super::{maths, not, Lane, Q};
 use crate::math::wrap_angle;

@@ -450,8 +450,8 @@ impl Lane for F32x16 {
         // SAFETY: module docs
         unsafe { lanes_512(self.0) as u32 }
     }
-    /// The pairs compressed in registers and stored whole: a branch per bit, mispredicted as
-    /// often as not, was most of the broad phase's rebuild.
+    /// The pairs compressed in registers and stored whole, with no branch per bit (one,
+    /// mispredicted as often as not, would be most of the broad phase's rebuild).
     #[inline(always)]
     fn push_pairs(out: &mut Vec<[u32; 2]>, a: u32, base: u32, bits: u32) {
         out.reserve(16);
