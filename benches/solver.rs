@@ -159,6 +159,9 @@ const WIDTHS: [(&str, Width); 4] = [
     ("simd16", Width::W16),
 ];
 
+/// One kind's pack functions into 4, 8 and 16 lanes.
+type Packers<T, L4, L8, L16> = (fn(&[T]) -> L4, fn(&[T]) -> L8, fn(&[T]) -> L16);
+
 /// One kind's rows and, as the SIMD solver keeps them, packed into 4, 8 and 16 lanes.
 #[derive(Clone)]
 struct Packed<T, L4, L8, L16> {
@@ -190,7 +193,7 @@ impl<T: Clone, L4, L8, L16> Packed<T, L4, L8, L16> {
 
     /// Packs the rows into the existing batches of the widest lanes this CPU runs again (no
     /// allocation in the timing).
-    fn repack(&mut self, pack: (fn(&[T]) -> L4, fn(&[T]) -> L8, fn(&[T]) -> L16))
+    fn repack(&mut self, pack: Packers<T, L4, L8, L16>)
     where
         T: Sync,
         L4: Send,

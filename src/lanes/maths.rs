@@ -13,6 +13,10 @@
 //!   lanes take the library.
 //! - [`exp`] is Cephes' `expf`: `2^n e^r` with `|r| <= ln 2 / 2` and a degree-6 polynomial.
 
+// The constants are written as the libraries they come from write them (libm's, Cephes'), in
+// decimal with more digits than an f32 holds; each rounds to the float those libraries use.
+#![allow(clippy::excessive_precision)]
+
 use super::{not, Lane};
 
 /// `libm::atanf` of a finite `t >= 0`.
@@ -470,6 +474,21 @@ pub(super) mod tests {
         assert_eq!((e.at(3), e.at(4)), (f32::INFINITY, 1.0));
     }
 
+    /// The functions above, and the basic operations they are made of, on `a` and `b`.
+    fn everything<L: Lane>(a: L, b: L) -> [L; 8] {
+        let (sin, cos) = sin_cos(a);
+        [
+            atan2(a, b),
+            atan2_libm(a, b),
+            sin,
+            cos,
+            exp(b),
+            a.max(b),
+            a.min(b) / b.sqrt(),
+            a.lt(b).select(a, b),
+        ]
+    }
+
     /// Every lane type this CPU runs computes the reference's bits: the functions above, and
     /// the basic operations they are made of.
     #[test]
@@ -478,16 +497,7 @@ pub(super) mod tests {
             let mut f = floats(19, 10.0);
             for _ in 0..2000 {
                 let (a, b): (W, W) = (W::from_fn(|_| f()), W::from_fn(|_| f() * f()));
-                let reference = [
-                    atan2(a, b),
-                    atan2_libm(a, b),
-                    sin_cos(a).0,
-                    sin_cos(a).1,
-                    exp(b),
-                    a.max(b),
-                    a.min(b) / b.sqrt(),
-                    a.lt(b).select(a, b),
-                ];
+                let reference = everything(a, b);
                 let lanes = |i: usize| -> [L; 2] {
                     [
                         L::from_fn(|k| a.at(i * L::W + k)),
@@ -496,16 +506,7 @@ pub(super) mod tests {
                 };
                 for part in 0..16 / L::W {
                     let [la, lb] = lanes(part);
-                    let got = [
-                        atan2(la, lb),
-                        atan2_libm(la, lb),
-                        sin_cos(la).0,
-                        sin_cos(la).1,
-                        exp(lb),
-                        la.max(lb),
-                        la.min(lb) / lb.sqrt(),
-                        la.lt(lb).select(la, lb),
-                    ];
+                    let got = everything(la, lb);
                     for (g, r) in got.iter().zip(&reference) {
                         for k in 0..L::W {
                             let (x, y) = (g.at(k), r.at(part * L::W + k));

@@ -202,27 +202,15 @@ impl<L: Lane> LaneWork<L> for CellPairs<'_> {
     type Output = ();
     #[inline(always)]
     fn run(self) {
-        let CellPairs {
-            entries,
-            proxies,
-            joined,
-            runs,
-            budget,
-            out,
-        } = self;
-        cell_pairs_in::<L>(entries, proxies, joined, (runs, budget), out)
+        cell_pairs_in::<L>(self)
     }
 }
 
 /// [`cell_pairs`] in lanes of `L`.
 #[inline(always)]
-fn cell_pairs_in<L: Lane>(
-    entries: &[(u64, u32)],
-    proxies: &[Proxy],
-    joined: &Joined,
-    (runs, budget): (IndexRuns, &Budget),
-    out: &mut ChunkPairs,
-) {
+fn cell_pairs_in<L: Lane>(work: CellPairs) {
+    let (entries, proxies, joined) = (work.entries, work.proxies, work.joined);
+    let (runs, budget, out) = (work.runs, work.budget, work.out);
     // (grown, never shrunk: the runs' lists keep their storage from rebuild to rebuild)
     if out.runs.len() < runs.count() {
         out.runs.resize_with(runs.count(), Vec::new);
