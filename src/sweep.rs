@@ -322,6 +322,9 @@ pub fn run_one(scene: &Scene, overrides: &Overrides, repeats: u32) -> anyhow::Re
     if def.joint_damping > 0.0 {
         label += &format!(" jd{}", def.joint_damping);
     }
+    if def.joint_friction > 0.0 {
+        label += &format!(" jf{}", def.joint_friction);
+    }
     let mut row = SweepRow::new(
         label,
         spine.to_string(),

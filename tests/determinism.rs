@@ -125,7 +125,7 @@ const CASES: &[Case] = &[
         spine: Some(SpineKind::Chain3),
         solver: SolverKind::Simd,
         frames: 300,
-        hash: 0x03a9_2cab_6e01_1df7,
+        hash: 0x1e5c_f9a8_fcc3_ab87,
     },
     Case {
         scene: "ragdoll_drop",
@@ -133,7 +133,7 @@ const CASES: &[Case] = &[
         spine: Some(SpineKind::Rod),
         solver: SolverKind::Scalar,
         frames: 300,
-        hash: 0xa99b_7863_d3b7_1dc1,
+        hash: 0x0dd5_79b5_916e_20c8,
     },
     Case {
         scene: "ragdoll_drop",

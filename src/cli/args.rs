@@ -249,6 +249,10 @@ pub struct OverrideArgs {
     /// the scene's `joint_damping`).
     #[arg(long, value_parser = non_negative)]
     pub joint_damping: Option<f32>,
+    /// Joint friction, the most torque every joint resists a turn with (N m; 0: none, the
+    /// paper's; default the scene's `joint_friction`).
+    #[arg(long, value_parser = non_negative)]
+    pub joint_friction: Option<f32>,
     /// Worker threads of the solver (at most 1024); default rayon's (one per core).
     #[arg(long, value_parser = clap::value_parser!(u64).range(1..=MAX_THREADS))]
     pub threads: Option<u64>,
@@ -319,6 +323,7 @@ impl From<&OverrideArgs> for Overrides {
             contact_detection: a.contact_detection,
             angular_speed_limit: a.angular_speed_limit,
             joint_damping: a.joint_damping,
+            joint_friction: a.joint_friction,
             self_contacts: a.self_contacts,
             seed: a.seed,
             dt: a.dt,

@@ -108,6 +108,7 @@ fn settings(d: &SceneDef) -> Settings {
         linear_damping: d.damping[0],
         angular_damping: d.damping[1],
         joint_damping: d.joint_damping,
+        joint_friction: d.joint_friction,
     }
 }
 

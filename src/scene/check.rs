@@ -206,6 +206,11 @@ fn check_settings(d: &SceneDef, prefix: &[Seg]) -> Result<(), Failure> {
             format!("must be 0 or more (N m s/rad), got {}", d.joint_damping),
         ),
         (
+            "joint_friction",
+            non_negative(d.joint_friction),
+            format!("must be 0 or more (N m), got {}", d.joint_friction),
+        ),
+        (
             "max_separation",
             d.max_separation > 0.0,
             format!(

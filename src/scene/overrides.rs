@@ -50,6 +50,8 @@ pub struct Overrides {
     pub contact_detection: Option<ContactDetection>,
     /// Rotational dashpot across every joint and rod (N m s/rad).
     pub joint_damping: Option<f32>,
+    /// Coulomb friction torque across every joint and rod (N m).
+    pub joint_friction: Option<f32>,
     /// Angular speed a body's spin is scaled down to each substep (rad/s; inf: none).
     pub angular_speed_limit: Option<f32>,
     /// Which pairs of each ragdoll's own bodies may collide ([`SelfContacts`]).
@@ -135,6 +137,7 @@ impl Overrides {
         set(&mut def.contact_detection, self.contact_detection);
         set(&mut def.angular_speed_limit, self.angular_speed_limit);
         set(&mut def.joint_damping, self.joint_damping);
+        set(&mut def.joint_friction, self.joint_friction);
         set(&mut def.dt, self.dt);
         set(&mut def.frames, self.frames);
         if let Some(frames) = self.frames {
@@ -270,6 +273,11 @@ impl Overrides {
                 "joint_damping",
                 "--joint-damping",
                 self.joint_damping.is_some(),
+            ),
+            (
+                "joint_friction",
+                "--joint-friction",
+                self.joint_friction.is_some(),
             ),
             ("alpha_b", "--alpha-b", bend.alpha.is_some()),
             ("alpha_t", "--alpha-t", twist.alpha.is_some()),

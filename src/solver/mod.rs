@@ -37,12 +37,12 @@
 //!       SIMD solver does 3.1-3.2 and 3.4 a lane width of bodies at a time:
 //!       `integrate_lanes.rs`);
 //!       take the rows' per-substep constants (the limits' starting twist; a stiff rod's
-//!       compliance; with joint damping, each damper's starting
-//!       relative orientation and relaxation);
-//!    3. `iterations` times: solve the joint dampers if any ([`crate::constraint::damper`]),
-//!       then the rods, then the joints, then the contact points, each
-//!       kind colour by colour (the humanoid builder appends a ragdoll's rod before its
-//!       joints, so for ragdolls this is their stored order); within a colour rows are
+//!       compliance; with joint damping or friction, each damper's starting
+//!       relative orientation, relaxation and friction bound);
+//!    3. `iterations` times: solve the joint dampers (damping, friction) if any
+//!       ([`crate::constraint::damper`]), then the rods, then the joints, then the contact
+//!       points, each kind colour by colour (the humanoid builder appends a ragdoll's rod
+//!       before its joints, so for ragdolls this is their stored order); within a colour rows are
 //!       independent, so they are solved [`SolverKind::Scalar`] one by one or
 //!       [`SolverKind::Simd`] W at a time from lanes packed once before the iterations (and
 //!       the contacts' impulses unpacked after them: [`packed`]), and on several threads when
@@ -175,7 +175,7 @@ impl Solver {
             }
         };
         let prepare = |solver: &mut Solver| {
-            let damped = settings.joint_damping > 0.0;
+            let damped = settings.joint_damping > 0.0 || settings.joint_friction > 0.0;
             solver.prepare(bodies, constraints, damped, simd, parallel);
         };
         if parallel {
@@ -414,6 +414,7 @@ impl Solver {
         self.rods.iter_mut().for_each(|r| r.begin_substep(h));
         let damping = JointDamping {
             coefficient: settings.joint_damping,
+            friction: settings.joint_friction,
             h,
             iterations: settings.iterations,
         };

@@ -121,6 +121,10 @@ pub struct Settings {
     /// rod, the torque `-k w_rel` ([`crate::constraint::damper`]), as a ragdoll's muscles would
     /// damp it. Zero (the default) in the paper's scenes: no damper rows at all.
     pub joint_damping: f32,
+    /// Joint friction (N m): the most torque with which every ball-and-socket joint and rod
+    /// resists a relative turn, Coulomb's ([`crate::constraint::damper`]). Zero (the default) in
+    /// the paper's scenes.
+    pub joint_friction: f32,
 }
 
 impl Default for Settings {
@@ -150,6 +154,7 @@ impl Default for Settings {
             linear_damping: 0.0,
             angular_damping: 0.0,
             joint_damping: 0.0,
+            joint_friction: 0.0,
         }
     }
 }

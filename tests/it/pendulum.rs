@@ -86,24 +86,23 @@ fn pendulum_keeps_its_length() {
     }
 }
 
-/// Largest swing angle (rad) of a capsule limb hinged at its top end, per second over
-/// `seconds`, with joint damping `coefficient` (N m s/rad) at 4 substeps of 4 iterations; and
-/// the limb's moment of inertia about the hinge.
-fn damped_limb_swings(coefficient: f32, seconds: usize) -> (Vec<f32>, f32) {
+/// A capsule limb of 2 kg hinged at its top end, its centre 0.2 m below the hinge, tilted by
+/// `amplitude` (rad) and let go, at 4 substeps of 4 iterations with `settings`' joint damping
+/// and friction; the world, the limb and the hinge.
+fn hanging_limb(settings: Settings, amplitude: f32) -> (World, rodlab::body::BodyId, Vec3) {
     use rodlab::shape::Axis;
     let mut world = World::new(Settings {
         dt: 1.0 / 60.0,
         substeps: 4,
         iterations: 4,
-        joint_damping: coefficient,
-        ..Settings::default()
+        ..settings
     });
     let pivot = Vec3::new(0.0, 2.0, 0.0);
     let top = world.add_body(
         Body::new("top", BodyKind::Fixed, Shape::Sphere { radius: 0.02 }, 1.0)
             .with_pose(pivot, Quat::IDENTITY),
     );
-    let (length, amplitude) = (0.2, 0.3f32);
+    let length = LIMB_LENGTH;
     let shape = Shape::Capsule {
         half_height: length - 0.04,
         radius: 0.04,
@@ -112,20 +111,40 @@ fn damped_limb_swings(coefficient: f32, seconds: usize) -> (Vec<f32>, f32) {
     let tilt = Quat::from_rotation_z(amplitude);
     let limb = Body::new("limb", BodyKind::Dynamic, shape, 2.0)
         .with_pose(pivot + tilt * Vec3::new(0.0, -length, 0.0), tilt);
-    // about the swing axis, by the parallel-axis theorem
-    let pivot_inertia = limb.inertia.z + limb.mass * length * length;
     let limb = world.add_body(limb);
     let joint =
         BallSocket::at_world_anchor("shoulder", &world.bodies, top, limb, pivot, Quat::IDENTITY)
             .with_flavour(JointFlavour::Exact);
     world.add_constraint(joint);
+    (world, limb, pivot)
+}
+
+/// The hinge-to-centre distance of [`hanging_limb`] (m).
+const LIMB_LENGTH: f32 = 0.2;
+
+/// The limb's swing angle from straight down (rad, signed).
+fn swing_angle(world: &World, limb: rodlab::body::BodyId, pivot: Vec3) -> f32 {
+    let arm = world.body(limb).position - pivot;
+    arm.x.atan2(-arm.y)
+}
+
+/// Largest swing angle (rad) of the hanging limb, per second over `seconds`, with joint damping
+/// `coefficient` (N m s/rad); and the limb's moment of inertia about the hinge.
+fn damped_limb_swings(coefficient: f32, seconds: usize) -> (Vec<f32>, f32) {
+    let settings = Settings {
+        joint_damping: coefficient,
+        ..Settings::default()
+    };
+    let (mut world, limb, pivot) = hanging_limb(settings, 0.3);
+    // about the swing axis, by the parallel-axis theorem
+    let body = world.body(limb);
+    let pivot_inertia = body.inertia.z + body.mass * LIMB_LENGTH * LIMB_LENGTH;
     let mut peaks = Vec::new();
     for _ in 0..seconds {
         let mut peak = 0.0f32;
         for _ in 0..60 {
             world.step().unwrap();
-            let arm = world.body(limb).position - pivot;
-            peak = peak.max(arm.x.atan2(-arm.y).abs());
+            peak = peak.max(swing_angle(&world, limb, pivot).abs());
         }
         peaks.push(peak);
     }
@@ -149,4 +168,69 @@ fn joint_damping_slows_a_swinging_limb_at_its_predicted_rate() {
             "k = {coefficient}: the swing decays {extra:.3}/s faster than undamped, predicted {predicted:.3}/s ({damped:?} against {undamped:?})"
         );
     }
+}
+
+/// Joint friction is Coulomb's: a torque of at most `T` against the turn. A limb swinging from
+/// `theta_1` then turns back at the `theta_2` where gravity's work pays friction's,
+/// `m g d (cos theta_2 - cos theta_1) = T (theta_1 + theta_2)`: the swing shrinks by a fixed angle
+/// per half swing (a dashpot's by a fixed fraction), and the limb stops dead once gravity's
+/// torque at a turning point is under `T`. Checked per half swing within 10% of the drop (with
+/// the solver's own loss, the fraction measured without friction, taken off) and at rest at the end, held
+/// within the angle where `m g d sin theta = T`.
+#[test]
+fn joint_friction_stops_a_swinging_limb_as_coulomb_friction() {
+    let torque = 0.1f32;
+    let turning_points = |friction: f32| {
+        let settings = Settings {
+            joint_friction: friction,
+            ..Settings::default()
+        };
+        let (mut world, limb, pivot) = hanging_limb(settings, 0.3);
+        let (mut peaks, mut angles) = (vec![0.3f32], Vec::new());
+        for _ in 0..600 {
+            world.step().unwrap();
+            angles.push(swing_angle(&world, limb, pivot));
+        }
+        for w in angles.windows(3) {
+            if (w[1] - w[0]) * (w[2] - w[1]) < 0.0 && w[1].abs() > 1e-3 {
+                peaks.push(w[1].abs());
+            }
+        }
+        let speed = world.body(limb).linear_velocity.length();
+        (peaks, angles[angles.len() - 1], speed)
+    };
+    let (free, _, _) = turning_points(0.0);
+    let (held, end, speed) = turning_points(torque);
+    let mgd = 2.0 * 9.81 * LIMB_LENGTH;
+    // the next turning point after theta_1 by the energy balance above (bisection)
+    let next = |theta_1: f32| {
+        let balance = |t2: f32| mgd * (t2.cos() - theta_1.cos()) - torque * (theta_1 + t2);
+        let (mut low, mut high) = (0.0f32, theta_1);
+        for _ in 0..60 {
+            let mid = 0.5 * (low + high);
+            if balance(mid) > 0.0 {
+                low = mid
+            } else {
+                high = mid
+            }
+        }
+        low
+    };
+    let friction_angle = (torque / mgd).asin();
+    let swings = held.len() - 1;
+    assert!(swings >= 3, "too few half swings to measure: {held:?}");
+    for i in 0..swings - 1 {
+        // the solver's own loss is a fraction of the swing (about 4% per half swing here)
+        let solver_loss = held[i] * (1.0 - free[i + 1] / free[i]);
+        let measured = held[i] - held[i + 1] - solver_loss;
+        let predicted = held[i] - next(held[i]);
+        assert!(
+            (measured / predicted - 1.0).abs() < 0.1,
+            "half swing {i}: the swing shrank by {measured:.4} rad, Coulomb predicts {predicted:.4} ({held:?}, without friction {free:?})"
+        );
+    }
+    assert!(
+        end.abs() <= friction_angle * 1.05 && speed < 1e-3,
+        "the limb ends at {end:.4} rad moving at {speed:.2e} m/s; friction holds it within {friction_angle:.4} rad"
+    );
 }

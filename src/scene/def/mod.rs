@@ -90,6 +90,10 @@ pub struct SceneDef {
     /// `-k w_rel`; zero by default, the paper's method.
     #[serde(default)]
     pub joint_damping: f32,
+    /// Joint friction (N m): the most torque every joint and rod resists a turn with; zero by
+    /// default, the paper's method.
+    #[serde(default)]
+    pub joint_friction: f32,
     /// Method variants the main job records beside this one (`[[variant]]`, read as named
     /// [`Overrides`]).
     #[serde(default)]

@@ -1,5 +1,6 @@
 //! The drop at rest: the scene's `at_rest` variant (4 substeps of 4 iterations, SIMD, exact
-//! joints, contacts warm-started at 0.25 and soft at 60 Hz, joint damping 0.2 N m s/rad, deep
+//! joints, contacts warm-started at 0.25 and soft at 60 Hz, joint damping 0.2 N m s/rad and
+//! friction 1 N m, deep
 //! overlap pushed out at no more than 5 m/s, sleeping on), as rates over layouts: each pile is
 //! one sample of a chaotic outcome.
 
@@ -8,10 +9,10 @@ use super::*;
 /// Over layouts 1-128 x both spines (256 piles of 10 s, about 80 s on 2 cores; each layout's
 /// row: `rodlab layouts scenes/ragdoll_drop.toml --variant at_rest --seeds 1-128`):
 /// - every run finishes (no NaN, no explosion);
-/// - at least 96% of the piles are at rest after 10 s: every body asleep, or every surface
-///   point under the sleep speed (measured 248 of 256; the rest keep one ragdoll moving, a
-///   limb swinging or a pile pumped by an unconverged solve, and no setting tried leaves none:
-///   docs/solver.md, The drop at rest);
+/// - at least 98% of the piles are at rest after 10 s: every body asleep, or every surface
+///   point under the sleep speed (measured 253 of 256; each of the rest keeps one ragdoll
+///   moving, which tips off a ledge late or jitters wedged deep in the pile: docs/solver.md,
+///   The drop at rest);
 /// - at rest the overlapping contact points overlap by under 2 mm, on the mean over the piles
 ///   and in each pile under 3 mm.
 #[test]
@@ -42,7 +43,7 @@ fn nearly_every_drop_pile_comes_to_rest_at_the_at_rest_variant() {
         overlap.iter().copied().fold(0.0, f32::max)
     );
     assert!(
-        100 * (ends.len() - restless.len()) >= 96 * ends.len(),
+        100 * (ends.len() - restless.len()) >= 98 * ends.len(),
         "only {} of {} at rest",
         ends.len() - restless.len(),
         ends.len()
