@@ -1,7 +1,7 @@
 //! Criterion benchmarks for the contacts issue: one step of the 30-ragdoll drop (in the pile)
-//! per spine, at the paper's 20 iterations and at the `redetect_sweeps` variant, the broad phase plus narrow phase (`detect`) at 10,
+//! per spine, at the paper's 20 iterations and at the tight method, the broad phase plus narrow phase (`detect`) at 10,
 //! 100 and 1000 ragdolls standing on a grid, and one step of 1000 boxes resting on the floor,
-//! asleep and awake (what sleeping saves), one step of the drop at its at_rest variant falling
+//! asleep and awake (what sleeping saves), one step of the drop at its game method falling
 //! and settled, and one step of the 1000-ragdoll rain landing and settled (issue 9's 60 steps/s,
 //! issue 10's detection per ragdoll; it ends with a table of both), with the landing crowd's
 //! broad-phase rebuild alone, from the grid and group by group. Run with `cargo bench
@@ -56,14 +56,14 @@ fn bench_step(group: &mut BenchmarkGroup<'_, WallTime>, name: String, world: &Wo
 }
 
 /// One step of the drop in the pile (2.5 s: the lower layers have landed), per spine, at the
-/// paper's method (named by the spine alone) and at the `redetect_sweeps` variant, the method
+/// paper's method (named by the spine alone) and at the tight method, the method
 /// that keeps the landing within 1 cm (20 substeps of one iteration, contacts found every
 /// substep and swept six more times, SIMD): what its accuracy costs against the paper's step.
 fn drop_step(c: &mut Criterion) {
     let mut group = c.benchmark_group("ragdoll_drop_step");
     group.sample_size(20);
     for spine in [SpineKind::Chain3, SpineKind::Rod] {
-        for variant in [None, Some("redetect_sweeps")] {
+        for variant in [None, Some("tight")] {
             let lab = &labs_at("ragdoll_drop.toml", variant, spine, &[150])[0];
             let name = match variant {
                 None => spine.to_string(),
@@ -150,15 +150,15 @@ fn sleeping(c: &mut Criterion) {
     group.finish();
 }
 
-/// The drop at its `at_rest` variant (4 substeps of 4 iterations, SIMD, exact joints, contacts
+/// The drop at its game method (4 substeps of 4 iterations, SIMD, exact joints, contacts
 /// warm 0.25 and 60 Hz, joint damping 0.2 N m s/rad, sleeping on): one step of the falling
 /// pile (at 1 s) against one of the settled pile (at 10 s, all asleep: asserted), per spine.
 /// Issue 10's target: settled at most 20% of falling.
 fn settled_against_falling(c: &mut Criterion) {
-    let mut group = c.benchmark_group("drop_at_rest_step");
+    let mut group = c.benchmark_group("drop_game_step");
     group.sample_size(20);
     for spine in [SpineKind::Chain3, SpineKind::Rod] {
-        let labs = labs_at("ragdoll_drop.toml", Some("at_rest"), spine, &[60, 540]);
+        let labs = labs_at("ragdoll_drop.toml", Some("game"), spine, &[60, 540]);
         assert_eq!(
             labs[1].world.awake_bodies, 0,
             "{spine}: the pile is not asleep at 10 s"

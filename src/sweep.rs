@@ -45,7 +45,7 @@ use crate::lab::Lab;
 use crate::metrics::FrameMetrics;
 use crate::ragdoll::SpineKind;
 use crate::scene::RodOverrides;
-use crate::scene::{Scene, SceneDef};
+use crate::scene::{Method, Scene, SceneDef};
 use crate::sim::Overrides;
 use crate::world::{ContactDetection, SolverKind};
 
@@ -59,6 +59,10 @@ pub use table::{parse_csv, to_csv};
 /// What to sweep.
 #[derive(Clone, Debug)]
 pub struct SweepConfig {
+    /// Named methods, each a line of its own beside the others (empty: the scene's own
+    /// method); the lists below that are empty keep each method's settings, and `iterations`
+    /// counts solves per frame: a method at `s` substeps runs `max(1, n / s)` iterations each.
+    pub methods: Vec<Method>,
     /// Solver iterations per substep.
     pub iterations: Vec<u32>,
     /// Ragdoll spines.
@@ -94,6 +98,7 @@ pub struct SweepConfig {
 impl Default for SweepConfig {
     fn default() -> Self {
         SweepConfig {
+            methods: Vec::new(),
             iterations: vec![1, 2, 4, 8, 16, 32],
             spines: vec![SpineKind::Chain3, SpineKind::Rod, SpineKind::Single],
             joints: vec![JointFlavour::Cheap, JointFlavour::Exact],
@@ -186,6 +191,19 @@ impl SweepRow {
 /// method), then time step, then iterations. An empty `substeps`, `solvers` or `warm_starts`
 /// list keeps the scene's.
 pub fn combinations(def: &SceneDef, config: &SweepConfig) -> Vec<Overrides> {
+    if config.methods.is_empty() {
+        return combinations_at(def, config, None);
+    }
+    let at = |method: Method| {
+        let mut def = def.clone();
+        method.overrides().apply(&mut def);
+        combinations_at(&def, config, Some(method))
+    };
+    config.methods.iter().flat_map(|&m| at(m)).collect()
+}
+
+/// [`combinations`] of one method (`None`: the scene's own), an empty list keeping `def`'s.
+fn combinations_at(def: &SceneDef, config: &SweepConfig, method: Option<Method>) -> Vec<Overrides> {
     let or_scene = |list: &[f32], scene: f32| match list.is_empty() {
         true => vec![scene],
         false => list.to_vec(),
@@ -198,6 +216,10 @@ pub fn combinations(def: &SceneDef, config: &SweepConfig) -> Vec<Overrides> {
     let solvers = match config.solvers.is_empty() {
         true => vec![def.solver],
         false => config.solvers.clone(),
+    };
+    let joints = match config.joints.is_empty() {
+        true => vec![def.joint_flavour],
+        false => config.joints.clone(),
     };
     let warm_starts = or_scene(&config.warm_starts, def.contact_warm_start);
     let hertz_list = or_scene(&config.contact_hertz, def.contact_hertz);
@@ -228,7 +250,7 @@ pub fn combinations(def: &SceneDef, config: &SweepConfig) -> Vec<Overrides> {
     let mut all = Vec::new();
     for &spine in &config.spines {
         for bend_twist in bend_twists(spine) {
-            for &joint in &config.joints {
+            for &joint in &joints {
                 for &solver in &solvers {
                     for &substeps in &substeps {
                         for &(warm, hertz, stacking, detection, sweeps) in &contact_methods {
@@ -240,9 +262,19 @@ pub fn combinations(def: &SceneDef, config: &SweepConfig) -> Vec<Overrides> {
                             {
                                 continue;
                             }
+                            // a named method's budget is solves per frame, its iterations
+                            // per substep that budget shared by its substeps
+                            let mut iteration_counts: Vec<u32> = match method {
+                                None => config.iterations.clone(),
+                                Some(_) => (config.iterations.iter())
+                                    .map(|&n| (n / substeps).max(1))
+                                    .collect(),
+                            };
+                            iteration_counts.dedup();
                             for &dt in &dts {
-                                for &iterations in &config.iterations {
+                                for &iterations in &iteration_counts {
                                     all.push(Overrides {
+                                        method,
                                         spine: Some(spine),
                                         joint_flavour: Some(joint),
                                         solver: Some(solver),
@@ -280,33 +312,64 @@ pub fn combinations(def: &SceneDef, config: &SweepConfig) -> Vec<Overrides> {
 /// and contact settings are the scene's.
 pub fn method_label(spine: SpineKind, def: &SceneDef) -> String {
     let mut label = format!("{spine}/{}", def.joint_flavour);
+    label += &label_suffixes(spine, def).concat();
+    label
+}
+
+/// A named method's label: `<spine> <method>`, then the suffixes of [`method_label`] where the
+/// run's settings differ from the method's own (a dimension swept across the methods).
+pub fn named_method_label(method: Method, spine: SpineKind, def: &SceneDef) -> String {
+    let mut own = def.clone();
+    method.overrides().apply(&mut own);
+    let mut label = format!("{spine} {method}");
+    if def.joint_flavour != own.joint_flavour {
+        label += &format!(" {}", def.joint_flavour);
+    }
+    let own = label_suffixes(spine, &own);
+    for suffix in label_suffixes(spine, def) {
+        if !own.contains(&suffix) {
+            label += &suffix;
+        }
+    }
+    label
+}
+
+/// The suffixes of [`method_label`] after `<spine>/<joint>`.
+fn label_suffixes(spine: SpineKind, def: &SceneDef) -> Vec<String> {
+    let mut label = Vec::new();
     if def.solver != SolverKind::Scalar {
-        label += &format!(" {}", def.solver);
+        label.push(format!(" {}", def.solver));
     }
     if def.substeps != 1 {
-        label += &format!(" x{}", def.substeps);
+        label.push(format!(" x{}", def.substeps));
     }
     if def.contact_warm_start != 0.0 {
-        label += &format!(" warm{}", def.contact_warm_start);
+        label.push(format!(" warm{}", def.contact_warm_start));
     }
     if def.contact_hertz != 0.0 {
-        label += &format!(" soft{}Hz", def.contact_hertz);
+        label.push(format!(" soft{}Hz", def.contact_hertz));
     }
     if def.contact_stacking != 0.0 {
-        label += &format!(" stack{}", def.contact_stacking);
+        label.push(format!(" stack{}", def.contact_stacking));
         if def.contact_stacking_max_ratio.is_finite() {
-            label += &format!("<={}", def.contact_stacking_max_ratio);
+            label.push(format!("<={}", def.contact_stacking_max_ratio));
         }
     }
     if def.contact_detection != ContactDetection::Frame {
-        label += " redetect";
+        label.push(" redetect".into());
     }
     if def.contact_extra_sweeps != 0 {
-        label += &format!(" sweeps{}", def.contact_extra_sweeps);
+        label.push(format!(" sweeps{}", def.contact_extra_sweeps));
     }
     let block = |b: Option<BendTwist>| b == Some(BendTwist::Block);
     if spine == SpineKind::Rod && def.ragdoll.iter().any(|r| block(r.bend_twist)) {
-        label += " block";
+        label.push(" block".into());
+    }
+    if def.joint_damping > 0.0 {
+        label.push(format!(" jd{}", def.joint_damping));
+    }
+    if def.joint_friction > 0.0 {
+        label.push(format!(" jf{}", def.joint_friction));
     }
     label
 }
@@ -317,14 +380,10 @@ pub fn run_one(scene: &Scene, overrides: &Overrides, repeats: u32) -> anyhow::Re
     overrides.apply(&mut scene.def);
     let def = &scene.def;
     let spine = overrides.spine.unwrap_or_default();
-    let mut label = method_label(spine, def);
-    // a scene's joint damping applies to every row: say so on the chart
-    if def.joint_damping > 0.0 {
-        label += &format!(" jd{}", def.joint_damping);
-    }
-    if def.joint_friction > 0.0 {
-        label += &format!(" jf{}", def.joint_friction);
-    }
+    let label = match overrides.method {
+        Some(method) => named_method_label(method, spine, def),
+        None => method_label(spine, def),
+    };
     let mut row = SweepRow::new(
         label,
         spine.to_string(),

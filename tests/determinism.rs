@@ -121,7 +121,7 @@ const CASES: &[Case] = &[
     },
     Case {
         scene: "ragdoll_drop",
-        variant: Some("at_rest"),
+        variant: Some("game"),
         spine: Some(SpineKind::Chain3),
         solver: SolverKind::Simd,
         frames: 300,
@@ -129,7 +129,7 @@ const CASES: &[Case] = &[
     },
     Case {
         scene: "ragdoll_drop",
-        variant: Some("at_rest"),
+        variant: Some("game"),
         spine: Some(SpineKind::Rod),
         solver: SolverKind::Scalar,
         frames: 300,
@@ -145,7 +145,7 @@ const CASES: &[Case] = &[
     },
     Case {
         scene: "ragdoll_drop",
-        variant: Some("redetect_sweeps"),
+        variant: Some("tight"),
         spine: Some(SpineKind::Rod),
         solver: SolverKind::Simd,
         frames: 150,

@@ -7,7 +7,7 @@ use clap::{Args, Parser, Subcommand};
 use crate::constraint::{BendTwist, JointFlavour, TwistMode};
 use crate::ragdoll::{SelfContacts, SpineKind};
 use crate::scene::bounds::MAX_THREADS;
-use crate::scene::{RodOverrides, SoftnessOverride};
+use crate::scene::{Method, RodOverrides, SoftnessOverride};
 use crate::sim::Overrides;
 use crate::world::{ContactDetection, SolverKind};
 
@@ -98,6 +98,8 @@ pub enum Command {
     },
     /// Lists the files the main job writes, one per line (what CI checks and archives).
     Outputs,
+    /// The named methods (paper, game, tight): each one's settings, as a scene file writes them.
+    Methods,
 }
 
 /// The arguments of `rodlab layouts`.
@@ -131,7 +133,12 @@ pub struct LayoutsArgs {
 pub struct SweepArgs {
     /// Scene file (TOML) to sweep
     pub scene: PathBuf,
-    /// Iteration counts, comma separated.
+    /// Named methods, comma separated (paper, game, tight): one line each, the other lists
+    /// left unset keeping each method's settings.
+    #[arg(long, value_delimiter = ',', value_parser = parse_choice::<Method>)]
+    pub methods: Vec<Method>,
+    /// Iteration counts, comma separated; with --methods, solves per frame (a method at S
+    /// substeps runs N / S iterations each, at least one).
     #[arg(long, value_delimiter = ',', default_value = "1,2,4,8,16,32",
           value_parser = clap::value_parser!(u32).range(1..))]
     pub iterations: Vec<u32>,
@@ -139,20 +146,19 @@ pub struct SweepArgs {
     #[arg(long, value_delimiter = ',', default_value = "chain3,rod,single",
           value_parser = parse_choice::<SpineKind>)]
     pub spines: Vec<SpineKind>,
-    /// Joint flavours, comma separated.
-    #[arg(long, value_delimiter = ',', default_value = "cheap,exact",
-          value_parser = parse_choice::<JointFlavour>)]
+    /// Joint flavours, comma separated; default cheap,exact (with --methods, each method's).
+    #[arg(long, value_delimiter = ',', value_parser = parse_choice::<JointFlavour>)]
     pub joint: Vec<JointFlavour>,
     /// Time steps (s), comma separated; default the scene's.
     #[arg(long, value_delimiter = ',', value_parser = positive_seconds)]
     pub dt: Vec<f32>,
-    /// Substeps per frame, comma separated (each substep runs the iterations).
-    #[arg(long, value_delimiter = ',', default_value = "1",
-          value_parser = clap::value_parser!(u32).range(1..))]
+    /// Substeps per frame, comma separated (each substep runs the iterations); default 1 (with
+    /// --methods, each method's).
+    #[arg(long, value_delimiter = ',', value_parser = clap::value_parser!(u32).range(1..))]
     pub substeps: Vec<u32>,
-    /// Row solvers, comma separated: scalar, simd.
-    #[arg(long, value_delimiter = ',', default_value = "scalar",
-          value_parser = parse_choice::<SolverKind>)]
+    /// Row solvers, comma separated: scalar, simd; default scalar (with --methods, each
+    /// method's).
+    #[arg(long, value_delimiter = ',', value_parser = parse_choice::<SolverKind>)]
     pub solver: Vec<SolverKind>,
     /// Contact warm-start fractions (0 to 1), comma separated; default the scene's.
     #[arg(long, value_delimiter = ',', value_parser = unit_interval)]
@@ -200,6 +206,11 @@ pub struct SweepArgs {
 /// Settings that override a scene file's, for `run` and `all`.
 #[derive(Debug, Clone, Args)]
 pub struct OverrideArgs {
+    /// A named method: paper (the reference), game (at rest, asleep, gentle) or tight (low
+    /// error for the paper's budget); the flags below override single fields of it
+    /// (`rodlab methods` prints each).
+    #[arg(long, value_parser = parse_choice::<Method>)]
+    pub method: Option<Method>,
     /// Solver iterations per substep (per frame with one substep).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     pub iterations: Option<u32>,
@@ -309,6 +320,7 @@ pub struct OverrideArgs {
 impl From<&OverrideArgs> for Overrides {
     fn from(a: &OverrideArgs) -> Self {
         Overrides {
+            method: a.method,
             iterations: a.iterations,
             substeps: a.substeps,
             solver: a.solver,

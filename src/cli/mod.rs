@@ -123,13 +123,23 @@ fn dispatch_command(cli: Cli, matches: &ArgMatches) -> anyhow::Result<()> {
     match cli.command {
         None => main_job(),
         Some(Command::Sweep(args)) => {
+            // without named methods an unset list is the paper's line
+            let default = crate::sweep::SweepConfig::default();
+            fn or_default<T>(list: Vec<T>, default: Vec<T>, methods: bool) -> Vec<T> {
+                match list.is_empty() && !methods {
+                    true => default,
+                    false => list,
+                }
+            }
+            let methods = !args.methods.is_empty();
             let config = crate::sweep::SweepConfig {
+                joints: or_default(args.joint, default.joints, methods),
+                substeps: or_default(args.substeps, default.substeps, methods),
+                solvers: or_default(args.solver, default.solvers, methods),
+                methods: args.methods,
                 iterations: args.iterations,
                 spines: args.spines,
-                joints: args.joint,
                 dts: args.dt,
-                substeps: args.substeps,
-                solvers: args.solver,
                 warm_starts: args.contact_warm_start,
                 contact_hertz: args.contact_hertz,
                 contact_stacking: args.contact_stacking,
@@ -170,6 +180,12 @@ fn dispatch_command(cli: Cli, matches: &ArgMatches) -> anyhow::Result<()> {
         Some(Command::Outputs) => {
             for file in main_job_outputs(Path::new("scenes"), Path::new("recordings"))? {
                 report!("{}", file.display());
+            }
+            Ok(())
+        }
+        Some(Command::Methods) => {
+            for method in crate::scene::Method::ALL {
+                report!("# method = \"{method}\"{}", method.settings_toml());
             }
             Ok(())
         }

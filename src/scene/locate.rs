@@ -44,6 +44,16 @@ pub fn parse(text: &str) -> Option<Spanned<DeTable<'_>>> {
     DeTable::parse(text).ok()
 }
 
+/// The top-level keys of scene text that parses (values are not read, so a number too large
+/// for any type is still a key here).
+pub fn top_level_keys(text: &str) -> Vec<String> {
+    parse(text).map_or_else(Vec::new, |doc| {
+        (doc.get_ref().iter())
+            .map(|(key, _)| key.get_ref().to_string())
+            .collect()
+    })
+}
+
 /// The deepest path whose key or value span contains `span`. Searches the whole tree, since
 /// the span of an array-of-tables entry covers only its `[[header]]`, not its keys.
 pub fn path_at(root: &DeTable<'_>, span: &Range<usize>) -> Vec<Seg> {

@@ -21,12 +21,14 @@ mod check_items;
 mod def;
 mod expand;
 mod locate;
+mod method;
 mod overrides;
 mod variant;
 
 pub use build::LOOSE_GROUP;
 pub use check::MAX_CONTACT_STACKING;
 pub use def::*;
+pub use method::Method;
 pub use overrides::{Overrides, RodOverrides, SoftnessOverride};
 
 use std::path::{Path, PathBuf};
@@ -118,6 +120,17 @@ impl Scene {
                 message: tidy_serde_message(e.message()),
             }
         })?;
+        let mut def = def;
+        if let Some(method) = def.method {
+            // the file's own keys win over its method's
+            method
+                .overrides_under(&locate::top_level_keys(text))
+                .apply(&mut def);
+        }
+        for v in &mut def.variant {
+            // a variant that names only a method is named after it
+            v.name = v.name.take().or(v.method.map(|m| m.to_string()));
+        }
         let mut scene = Scene {
             path,
             text: text.to_string(),

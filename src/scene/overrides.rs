@@ -4,7 +4,7 @@
 use serde::Deserialize;
 
 use super::locate::{self, Seg};
-use super::{RagdollDef, Scene, SceneDef};
+use super::{Method, RagdollDef, Scene, SceneDef};
 use crate::constraint::{BendTwist, JointFlavour, TwistMode};
 use crate::ragdoll::{SelfContacts, SpineKind};
 use crate::world::{ContactDetection, SolverKind};
@@ -21,6 +21,9 @@ pub struct Overrides {
     /// The `[[variant]]`'s name: lower-case letters, digits and underscores, unique in the
     /// scene (it names a recording). `None` for the command line's overrides.
     pub name: Option<String>,
+    /// A named bundle of the fields below ([`Method`]), applied before them: a variant's own
+    /// fields, or the command line's flags, win over its method's.
+    pub method: Option<Method>,
     /// Solver iterations per substep.
     pub iterations: Option<u32>,
     /// Substeps per frame.
@@ -105,6 +108,10 @@ impl Overrides {
     /// Writes the overrides that are set into `def`: settings, and spine, self-contacts, flavour
     /// and rod settings on every ragdoll, joint and rod.
     pub fn apply(&self, def: &mut SceneDef) {
+        if let Some(method) = self.method {
+            method.overrides().apply(def);
+            def.method = Some(method);
+        }
         if let (Some(seed), Some(drop)) = (self.seed, def.drop.as_mut()) {
             // the block's ragdolls were added by name when the file was parsed; only their
             // poses depend on the seed, so what a variant set on them stays

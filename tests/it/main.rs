@@ -16,6 +16,7 @@ mod kinematics;
 mod lanes_contact;
 mod lanes_joint;
 mod lanes_rod;
+mod methods;
 mod override_bounds;
 mod passive_bending;
 #[cfg(feature = "rapier")]

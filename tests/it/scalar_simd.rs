@@ -76,13 +76,13 @@ fn controllability_agrees() {
 }
 
 /// The drop's final state does not depend on the thread count, with either row solver, and
-/// with contacts found every substep and swept again alone (the `redetect_sweeps` variant, 80
+/// with contacts found every substep and swept again alone (the tight method, 80
 /// frames of 20 substeps: the fall and the first landings), with either row solver. Detection itself runs on one thread below 4096 bodies; the rain's
 /// test (`ragdoll_rain.rs`) covers its parallel path, which detecting every substep reuses.
 #[test]
 fn drop_is_bit_identical_on_one_and_two_threads() {
     let paper = scene("ragdoll_drop");
-    let redetect = paper.variant("redetect_sweeps").unwrap();
+    let redetect = paper.variant("tight").unwrap();
     let final_state = |threads: usize, solver: SolverKind, scene: &Scene, frames: u32| {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -130,7 +130,7 @@ fn rows_kept_from_frame_to_frame_give_the_bits_of_rows_prepared_afresh() {
     use rodlab::constraint::Constraint;
     use rodlab::ragdoll::SpineKind;
     use rodlab::sim::Overrides;
-    let mut scene = scene("ragdoll_drop").variant("at_rest").unwrap();
+    let mut scene = scene("ragdoll_drop").variant("game").unwrap();
     Overrides {
         spine: Some(SpineKind::Rod),
         ..Default::default()

@@ -272,6 +272,58 @@ fn extra_contact_sweeps_are_a_sweep_dimension() {
     assert_eq!(back[1].contact_extra_sweeps, 3);
 }
 
+/// Named methods are lines of their own at the same budget: with `--methods`, `iterations`
+/// counts solves per frame, which each method shares over its own substeps; each line is
+/// labelled `<spine> <method>`, and a list given beside the methods overrides that field in
+/// every method and shows in the label.
+#[test]
+fn named_methods_are_lines_at_the_same_budget() {
+    use rodlab::scene::Method;
+    let scene = Scene::load(format!("{SCENES}/ragdoll_drop.toml")).unwrap();
+    let config = SweepConfig {
+        methods: Method::ALL.to_vec(),
+        iterations: vec![4, 20, 40],
+        spines: vec![SpineKind::Rod],
+        joints: Vec::new(),
+        substeps: Vec::new(),
+        solvers: Vec::new(),
+        frames: Some(2),
+        repeats: 1,
+        ..Default::default()
+    };
+    let runs: Vec<(Option<Method>, Option<u32>, Option<u32>)> =
+        (sweep::combinations(&scene.def, &config).iter())
+            .map(|o| (o.method, o.substeps, o.iterations))
+            .collect();
+    let (paper, game, tight) = (Some(Method::Paper), Some(Method::Game), Some(Method::Tight));
+    #[rustfmt::skip]
+    assert_eq!(runs, [
+        (paper, Some(1), Some(4)), (paper, Some(1), Some(20)), (paper, Some(1), Some(40)),
+        (game, Some(4), Some(1)), (game, Some(4), Some(5)), (game, Some(4), Some(10)),
+        (tight, Some(20), Some(1)), (tight, Some(20), Some(2)),
+    ]);
+    let labels = |config: &SweepConfig| -> Vec<String> {
+        let mut labels: Vec<String> = (sweep::combinations(&scene.def, config).iter())
+            .map(|o| sweep::run_one(&scene, o, 1).unwrap().method)
+            .collect();
+        labels.dedup();
+        labels
+    };
+    let one_budget = SweepConfig {
+        iterations: vec![20],
+        ..config.clone()
+    };
+    assert_eq!(labels(&one_budget), ["rod paper", "rod game", "rod tight"]);
+    let cheap = SweepConfig {
+        joints: vec![JointFlavour::Cheap],
+        ..one_budget
+    };
+    assert_eq!(
+        labels(&cheap),
+        ["rod paper", "rod game cheap", "rod tight cheap"]
+    );
+}
+
 /// The rod's bend-twist projection is a method dimension of the rod spine only: with both
 /// listed, chain3 runs once and the rod twice, the block line labelled ` block` beside the
 /// reference, and each line's residual falls with iterations; at 16 iterations the block
@@ -341,7 +393,7 @@ fn layouts_are_the_drop_run_at_each_seed_in_order() {
     let mut seen = 0;
     let runs = run_layouts(
         scene.as_ref(),
-        Some("at_rest"),
+        Some("game"),
         &frames,
         &[3, 1],
         &[SpineKind::Rod],
@@ -353,7 +405,7 @@ fn layouts_are_the_drop_run_at_each_seed_in_order() {
     assert_eq!(order, [3, 1]);
     for run in &runs {
         let end = run.end.as_ref().unwrap();
-        let mut alone = Scene::load(&scene).unwrap().variant("at_rest").unwrap();
+        let mut alone = Scene::load(&scene).unwrap().variant("game").unwrap();
         Overrides {
             seed: Some(run.seed),
             spine: Some(SpineKind::Rod),

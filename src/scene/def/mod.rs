@@ -4,7 +4,7 @@
 
 use serde::Deserialize;
 
-use super::Overrides;
+use super::{Method, Overrides};
 use crate::constraint::JointFlavour;
 use crate::ragdoll::SpineKind;
 use crate::world::{ContactDetection, Settings, SolverKind};
@@ -25,6 +25,9 @@ pub use rods::{RodDef, StiffnessDef};
 pub struct SceneDef {
     /// Recording name; defaults to the file stem.
     pub name: Option<String>,
+    /// A named bundle of method settings ([`Method`]) under the file's own keys; none: each
+    /// field's default, the paper's method.
+    pub method: Option<Method>,
     /// Frame time step (s).
     #[serde(default = "default_dt")]
     pub dt: f32,

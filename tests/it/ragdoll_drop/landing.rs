@@ -6,7 +6,7 @@ use super::*;
 use rodlab::sim;
 use rodlab::world::{ContactDetection, SolverKind};
 
-/// The 1 cm as a rate over many landings: the `redetect_sweeps` variant, its stacking ratio
+/// The 1 cm as a rate over many landings: the tight method, its stacking ratio
 /// capped at e, keeps the deepest overlap of the landing (150 frames) within 1 cm on nearly
 /// every layout of 1-64 x both spines and rarely explodes, and its landings are shallower on
 /// average than the same variant's uncapped. A survey of 256 runs, so not run by default.
@@ -14,7 +14,7 @@ use rodlab::world::{ContactDetection, SolverKind};
 #[ignore = "a survey of 256 landings (about 3 min on 2 cores): cargo test --release --test it \
             -- --ignored ragdoll_drop::landing::the_capped_ratio_keeps_nearly_every_landing_within_a_centimetre \
             --nocapture; each layout's row: rodlab layouts scenes/ragdoll_drop.toml --variant \
-            redetect_sweeps --seeds 1-64 --frames 150"]
+            tight --seeds 1-64 --frames 150"]
 fn the_capped_ratio_keeps_nearly_every_landing_within_a_centimetre() {
     let _alone = one_at_a_time();
     // (over 1 cm, exploded, mean deepest overlap in cm) with the variant's cap, then without one
@@ -24,7 +24,7 @@ fn the_capped_ratio_keeps_nearly_every_landing_within_a_centimetre() {
             frames: Some(150),
             ..Default::default()
         };
-        let runs = survey("redetect_sweeps", &overrides);
+        let runs = survey("tight", &overrides);
         let ends: Vec<_> = runs.iter().filter_map(|r| r.end.as_ref().ok()).collect();
         let deep = ends.iter().filter(|e| e.deepest_overlap_cm > 1.0).count();
         let deepest: Vec<f32> = ends.iter().map(|e| e.deepest_overlap_cm).collect();
@@ -101,20 +101,20 @@ fn detecting_contacts_every_substep_leaves_less_overlap_than_once_a_frame() {
     }
 }
 
-/// The 1 cm: the `redetect_sweeps` variant's contacts, solved alone after each substep's joint
+/// The 1 cm: the tight method's contacts, solved alone after each substep's joint
 /// sweep, push out what that sweep left, so over layouts 1-8 x both spines at most one landing
 /// of each spine passes 1 cm, and the mean deepest overlap is under half of the same method's
 /// without those sweeps.
 #[test]
 fn extra_contact_sweeps_keep_the_drops_landing_within_a_centimetre() {
     let plain = landing_overlaps(
-        Some("redetect_sweeps"),
+        Some("tight"),
         Overrides {
             contact_extra_sweeps: Some(0),
             ..Default::default()
         },
     );
-    let swept = landing_overlaps(Some("redetect_sweeps"), Overrides::default());
+    let swept = landing_overlaps(Some("tight"), Overrides::default());
     for (k, spine) in ["chain3", "rod"].into_iter().enumerate() {
         let deep = swept[k].iter().filter(|&&d| d > 1.0).count();
         let (plain_mean, swept_mean) = (mean(&plain[k]), mean(&swept[k]));
@@ -133,7 +133,7 @@ fn extra_contact_sweeps_keep_the_drops_landing_within_a_centimetre() {
 
 /// Layout 52's rod pile, where cheap joints with three contact sweeps once threw a forearm
 /// pressed between two other ragdolls past the explosion bound (the one-row hinge turning it
-/// about its own axis back and forth every substep): at the `redetect_sweeps` variant (exact
+/// about its own axis back and forth every substep): at the tight method (exact
 /// joints, whose hinge aligns its axes as one block, and six sweeps), with either row solver,
 /// the landing runs its 150 frames within 1 cm, and ends in its committed state (one pile is a
 /// chaotic sample: the hash pins it exactly).
@@ -151,7 +151,7 @@ fn the_landing_a_forearm_exploded_on_holds_with_exact_joints() {
             solver: Some(solver),
             ..Default::default()
         };
-        let (_, mut lab) = drop_lab(Some("redetect_sweeps"), &overrides);
+        let (_, mut lab) = drop_lab(Some("tight"), &overrides);
         let report = sim::run(&mut lab, 150, &mut sim::NoObserver).expect("no explosion");
         let deepest = report.max_overlap_cm;
         println!("{solver}: deepest overlap {deepest:.2} cm");

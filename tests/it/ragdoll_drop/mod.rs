@@ -4,7 +4,7 @@
 //!   over layouts 1-16 x both spines (the paper's method, the reference line);
 //! - `stacking`: stacking's settled residual against the paper's, and the rod below chain3 on
 //!   nearly every layout with contacts that carry the pile's weight;
-//! - `at_rest`: the pile comes to rest at the scene's `at_rest` variant, as a rate over
+//! - `game`: the pile comes to rest at the game method, as a rate over
 //!   layouts 1-128 x both spines;
 //! - `landing`: the deepest overlap of the landing within 1 cm, with contacts found every
 //!   substep and swept alone after each substep's iterations, as rates over layouts;
@@ -12,7 +12,7 @@
 //!
 //! Helpers the files share are here.
 
-mod at_rest;
+mod game;
 mod landing;
 mod paper;
 mod profile;

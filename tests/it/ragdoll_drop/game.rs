@@ -1,4 +1,4 @@
-//! The drop at rest: the scene's `at_rest` variant (4 substeps of 4 iterations, SIMD, exact
+//! The drop at rest: the scene's game method (4 substeps of 4 iterations, SIMD, exact
 //! joints, contacts warm-started at 0.25 and soft at 60 Hz, joint damping 0.2 N m s/rad and
 //! friction 1 N m, deep
 //! overlap pushed out at no more than 5 m/s, sleeping on), as rates over layouts: each pile is
@@ -7,7 +7,7 @@
 use super::*;
 
 /// Over layouts 1-128 x both spines (256 piles of 10 s, about 80 s on 2 cores; each layout's
-/// row: `rodlab layouts scenes/ragdoll_drop.toml --variant at_rest --seeds 1-128`):
+/// row: `rodlab layouts scenes/ragdoll_drop.toml --variant game --seeds 1-128`):
 /// - every run finishes (no NaN, no explosion);
 /// - at least 98% of the piles are at rest after 10 s: every body asleep, or every surface
 ///   point under the sleep speed (measured 253 of 256; each of the rest keeps one ragdoll
@@ -16,8 +16,8 @@ use super::*;
 /// - at rest the overlapping contact points overlap by under 2 mm, on the mean over the piles
 ///   and in each pile under 3 mm.
 #[test]
-fn nearly_every_drop_pile_comes_to_rest_at_the_at_rest_variant() {
-    let runs = survey_over("at_rest", &Overrides::default(), 1..=128);
+fn nearly_every_drop_pile_comes_to_rest_at_the_game_method() {
+    let runs = survey_over("game", &Overrides::default(), 1..=128);
     let ends: Vec<_> = (runs.iter())
         .map(|r| match &r.end {
             Ok(end) => end,
@@ -62,7 +62,7 @@ fn nearly_every_drop_pile_comes_to_rest_at_the_at_rest_variant() {
 /// it. A survey of 256 runs, so not run by default.
 #[test]
 #[ignore = "a survey of 256 drops of 10 s (about 80 s on 2 cores): cargo test --release \
-            --test it -- --ignored ragdoll_drop::at_rest::joint_damping --nocapture"]
+            --test it -- --ignored ragdoll_drop::game::joint_damping --nocapture"]
 fn joint_damping_brings_the_piles_to_rest_sooner() {
     let _alone = one_at_a_time();
     // (layouts at rest, the mean frame from which the whole pile sleeps) at the variant's
@@ -73,7 +73,7 @@ fn joint_damping_brings_the_piles_to_rest_sooner() {
                 joint_damping,
                 ..Default::default()
             };
-            let ends: Vec<_> = (survey("at_rest", &overrides).into_iter())
+            let ends: Vec<_> = (survey("game", &overrides).into_iter())
                 .map(|r| r.end.expect("no explosion"))
                 .collect();
             let still = ends.iter().filter(|e| e.still_moving == 0).count();
