@@ -1,9 +1,9 @@
-//! Criterion benchmarks for the contacts issue: one step of the 30-ragdoll drop (in the pile)
+//! Criterion benchmarks of contacts and the crowd: one step of the 30-ragdoll drop (in the pile)
 //! per spine, at the paper's 20 iterations and at the tight method, the broad phase plus narrow phase (`detect`) at 10,
 //! 100 and 1000 ragdolls standing on a grid, and one step of 1000 boxes resting on the floor,
 //! asleep and awake (what sleeping saves), one step of the drop at its game method falling
-//! and settled, and one step of the 1000-ragdoll rain landing and settled (issue 9's 60 steps/s,
-//! issue 10's detection per ragdoll; it ends with a table of both), with the landing crowd's
+//! and settled, and one step of the 1000-ragdoll rain landing and settled (steps/s, and
+//! detection per ragdoll; it ends with a table of both), with the landing crowd's
 //! broad-phase rebuild alone, from the grid and group by group. Run with `cargo bench
 //! --bench drop`; `cargo bench --bench drop -- rain` runs the rain alone (about a minute to
 //! settle it first).
@@ -153,7 +153,7 @@ fn sleeping(c: &mut Criterion) {
 /// The drop at its game method (4 substeps of 4 iterations, SIMD, exact joints, contacts
 /// warm 0.25 and 60 Hz, joint damping 0.2 N m s/rad, sleeping on): one step of the falling
 /// pile (at 1 s) against one of the settled pile (at 10 s, all asleep: asserted), per spine.
-/// Issue 10's target: settled at most 20% of falling.
+/// The target: settled at most 20% of falling.
 fn settled_against_falling(c: &mut Criterion) {
     let mut group = c.benchmark_group("drop_game_step");
     group.sample_size(20);
@@ -172,8 +172,8 @@ fn settled_against_falling(c: &mut Criterion) {
 
 /// The 1000-ragdoll rain at its scene's method (4 substeps of 2 iterations, SIMD, contact
 /// stacking): one step at 1 s (landing: the first layer meets the geometry) and at 9 s
-/// (settled), per spine, on the machine's threads. Issue 9's target: 60 steps/s at 2 cores;
-/// issue 10's: detection at most 3 us per ragdoll. The table after the group gives each case's
+/// (settled), per spine, on the machine's threads. The targets: 60 steps/s at 2 cores, and
+/// detection at most 3 us per ragdoll. The table after the group gives each case's
 /// median step, its steps/s and its detection per ragdoll (with each run's median), from the
 /// step profiles of three runs of 15 consecutive steps from that state, with detection's broad
 /// and narrow phases (`Contacts::detection_profile`) and how many steps rebuilt the kept

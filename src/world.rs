@@ -198,7 +198,7 @@ impl World {
 
     /// The contact points of the current poses that overlap, found afresh with every body
     /// awake (sleeping bodies make no pairs): how many of how many points, and their mean
-    /// overlap (m; 0 when none overlaps). Issue 10's measure of penetration at rest.
+    /// overlap (m; 0 when none overlaps): penetration at rest.
     pub fn overlap_at_rest(&self) -> (usize, usize, f32) {
         let mut bodies = self.bodies.clone();
         self.islands.clone().wake_all(&mut bodies);

@@ -167,7 +167,7 @@ impl BroadPhase {
 /// pair up only when its bodies share a [`Joined::group`]. One candidate at a time, after a
 /// binary search for the last, with every test computed to keep the loop free of branches no
 /// predictor learns, the sweep cost about 8 ns per candidate. Per rebuild of the landing
-/// rain's grid (rod, a probe's perf samples of the broad phase alone), the cell and flag test
+/// rain's grid (rod, perf samples of the broad phase alone), the cell and flag test
 /// in lanes took 14% off the sweep, and the group test about 15% more.
 fn cell_pairs(
     width: LaneWidth,

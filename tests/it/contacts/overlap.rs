@@ -1,5 +1,5 @@
 //! Overlap and its recovery: the push-out speed limit, a soft contact as a spring of its
-//! frequency, issue 10's overlapping block of 27 boxes, the overlap found afresh, and the
+//! frequency, an overlapping block of 27 boxes, the overlap found afresh, and the
 //! penetration bound that stops a run.
 
 use super::*;
@@ -7,7 +7,7 @@ use super::*;
 /// Box2D's `maxContactPushSpeed` (`contact_push_speed`): a box started half sunk into the one
 /// below is pushed out no faster than the limit, where the paper-era projection (no limit)
 /// throws it out at twice the speed (measured 4.0 against 2.0 m/s); either way the overlap is
-/// gone, and after 5 s both boxes are slower than the sleep threshold (issue 10: boxes started
+/// gone, and after 5 s both boxes are slower than the sleep threshold (boxes started
 /// half overlapping were still moving after 5 s; measured 0 and 0.014 m/s).
 #[test]
 fn a_sunk_box_is_pushed_out_no_faster_than_the_push_speed() {
@@ -76,7 +76,7 @@ fn soft_ball_heights(hertz: f32, damping_ratio: f32) -> (f32, Vec<f32>) {
     (dt, heights)
 }
 
-/// Soft contacts are damped springs of the stated frequency (issue 10; XPBD compliance, Macklin
+/// Soft contacts are damped springs of the stated frequency (XPBD compliance, Macklin
 /// et al. 2016). Undamped at 2 Hz, a ball set down on the floor oscillates with period 0.5 s
 /// about a sag of g / omega^2 = 62.1 mm; critically damped it
 /// sinks to the same sag without overshoot (measured 0.500 s and 62.1 mm undamped; 62.1 mm
@@ -149,7 +149,7 @@ fn overlapping_block(push_speed: f32) -> (f32, Option<f32>, u64) {
     (peak, rest_since, world.state_hash())
 }
 
-/// Issue 10: boxes started overlapping by half separate no faster than 3 m/s and are at rest
+/// Boxes started overlapping by half separate no faster than 3 m/s and are at rest
 /// within 3 s. A push-out cap of 1 m/s does it (measured: peak 1.7 m/s, at rest from 0.95 s).
 /// Pushes compound up the block (a top box rides on boxes pushed out themselves), so the cap
 /// must sit below the wanted peak: 1.5 and 3 m/s caps peak at 4.1 and 6.1 m/s. The paper's

@@ -3,7 +3,7 @@
 
 use super::*;
 
-/// Sleeping (issue 10): a box resting on the floor falls asleep once it has been still for
+/// Sleeping: a box resting on the floor falls asleep once it has been still for
 /// 0.5 s and then does not move at all; a ball dropped on it wakes it, and once the ball rests
 /// on top the two fall asleep again, as one island.
 #[test]

@@ -1,4 +1,4 @@
-//! Stacks and pyramids of boxes that stand (issue 10's 10-box stack and 10-wide pyramid within
+//! Stacks and pyramids of boxes that stand (a 10-box stack and a 10-wide pyramid within
 //! 5 mm), warm starting, and contact stacking (the lower body of a contact counted heavier).
 
 use super::*;
@@ -93,7 +93,7 @@ fn box_pyramid_drift(
     (drift, moved, fastest, world.state_hash())
 }
 
-/// Warm starting (issue 10): each substep's contacts start from a quarter of the impulse they
+/// Warm starting: each substep's contacts start from a quarter of the impulse they
 /// ended the last one with. A pyramid's corners then share the load from the first iteration
 /// instead of the first-solved corner taking it, and the pyramid holds still. Measured: 0.37 mm
 /// sideways and at rest after 10 s, against 21 mm without warm starting (the paper's method).
@@ -108,7 +108,7 @@ fn warm_started_contacts_hold_a_box_pyramid() {
     assert!(warm < cold, "warm {warm} m against cold {cold} m");
 }
 
-/// Issue 10's pyramid: ten wide (55 boxes), every box within 5 mm of its start after 10 s. With
+/// A pyramid ten wide (55 boxes), every box within 5 mm of its start after 10 s. With
 /// a quarter warm start it holds at 4 substeps of 5 iterations (measured 1.3 mm) and at 2 of 10
 /// (2.8 mm), against 49 and 122 mm without warm starting. At the paper's one step of 20
 /// iterations it is at the bound and depends on the order contacts are solved in: 5.8 mm
@@ -136,12 +136,12 @@ fn a_ten_wide_box_pyramid_stands_within_five_millimetres() {
     }
 }
 
-/// Issue 10's ten-box stack: at 8 substeps of 4 iterations with a quarter warm start and
+/// A ten-box stack: at 8 substeps of 4 iterations with a quarter warm start and
 /// sleeping on, every box stays within 5 mm of its start for 10 s (measured 2.3 mm), because
 /// the stack falls asleep after its first 0.5 s, while it is still within a few millimetres.
 /// Awake it does not hold: the solver's corner order tilts it a little each step, and over
-/// 10 s the top drifts 17-150 mm whatever the method tried (1x20 to 8x4, warm 0 to 0.5; a
-/// probe not kept; docs/solver.md, Sleeping). 4 substeps of 10 iterations hold it at 4.1 mm asleep.
+/// 10 s the top drifts 17-150 mm at every method measured (1x20 to 8x4, warm 0 to 0.5;
+/// docs/solver.md, Sleeping). 4 substeps of 10 iterations hold it at 4.1 mm asleep.
 #[test]
 fn a_ten_box_stack_that_may_sleep_stands_within_five_millimetres() {
     let mut world = World::new(Settings {
