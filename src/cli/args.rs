@@ -100,6 +100,20 @@ pub enum Command {
     Outputs,
     /// The named methods (paper, game, tight): each one's settings, as a scene file writes them.
     Methods,
+    /// A sweep's shards (`sweep --shard I/N`) back into the whole sweep: every shard's
+    /// <name>_sweep_shardIofN.csv -> <out>/<name>_sweep.csv, .svg, .png and .rrd, in the order an
+    /// unsharded run writes them.
+    Merge {
+        /// The shards' CSV files, all N of one sweep, in any order
+        #[arg(required = true)]
+        shards: Vec<PathBuf>,
+        /// Folder for the merged table, chart and recording
+        #[arg(long, default_value = "recordings")]
+        out: PathBuf,
+        /// The machine the shards ran on, for the chart's title (the CSVs do not say)
+        #[arg(long, default_value = "machine not named")]
+        machine: String,
+    },
 }
 
 /// The arguments of `rodlab layouts`.

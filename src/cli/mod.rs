@@ -183,6 +183,11 @@ fn dispatch_command(cli: Cli, matches: &ArgMatches) -> anyhow::Result<()> {
             }
             Ok(())
         }
+        Some(Command::Merge {
+            shards,
+            out,
+            machine,
+        }) => sweep::merge(&shards, &machine, &out),
         Some(Command::Methods) => {
             for method in crate::scene::Method::ALL {
                 report!("# method = \"{method}\"{}", method.settings_toml());

@@ -154,6 +154,57 @@ fn print_rows(rows: &[crate::sweep::SweepRow]) {
     }
 }
 
+/// `rodlab merge`: the shards' CSVs (all N of one sweep, in any order) back into the whole
+/// sweep's rows, then its outputs as an unsharded run writes them.
+pub(super) fn merge(files: &[std::path::PathBuf], machine: &str, out: &Path) -> anyhow::Result<()> {
+    let mut shards: Vec<(Shard, &std::path::PathBuf)> = Vec::new();
+    let mut base: Option<String> = None;
+    for file in files {
+        let stem = file
+            .file_stem()
+            .and_then(|s| s.to_str())
+            .unwrap_or_default();
+        let (stem_base, shard) = Shard::from_stem(stem).with_context(|| {
+            format!(
+                "{}: not a sweep shard's table (<name>_sweep_shardIofN.csv)",
+                file.display()
+            )
+        })?;
+        match &base {
+            Some(b) if b != stem_base => anyhow::bail!(
+                "{}: a shard of {stem_base}, the others are of {b}",
+                file.display()
+            ),
+            _ => base = Some(stem_base.to_string()),
+        }
+        shards.push((shard, file));
+    }
+    shards.sort_by_key(|(shard, _)| shard.index);
+    let count = shards[0].0.count;
+    let indices: Vec<usize> = shards.iter().map(|(s, _)| s.index).collect();
+    anyhow::ensure!(
+        shards.iter().all(|(s, _)| s.count == count) && indices == (1..=count).collect::<Vec<_>>(),
+        "the shards given are {:?}; a merge needs each of 1 to {count} of {count} once",
+        shards
+            .iter()
+            .map(|(s, _)| format!("{}of{}", s.index, s.count))
+            .collect::<Vec<_>>()
+    );
+    let mut tables = Vec::new();
+    for (_, file) in &shards {
+        let text = std::fs::read_to_string(file)
+            .with_context(|| format!("cannot read {}", file.display()))?;
+        let rows = crate::sweep::parse_csv(&text).with_context(|| file.display().to_string())?;
+        tables.push(rows);
+    }
+    let rows = crate::shard::interleave(tables).map_err(anyhow::Error::msg)?;
+    let stem = base.expect("one shard at least");
+    let name = stem.strip_suffix("_sweep").unwrap_or(&stem).to_string();
+    report!("== merged {count} shards of {name}: {} runs", rows.len());
+    print_rows(&rows);
+    write_outputs(&name, &rows, machine, &stem, out)
+}
+
 /// `<out>/<stem>.csv`, `.svg`, `.png` and `.rrd` of the sweep's rows.
 fn write_outputs(
     name: &str,

@@ -158,7 +158,7 @@ fn a_scene_without_contacts_pays_nothing_for_collision_detection() {
 
 /// `rodlab sweep --shard I/N`, run as a user runs it: the three shards' CSV rows together are
 /// exactly the unsharded run's, up to the measured step time (column 10), and each shard wrote
-/// its own files.
+/// its own files; `rodlab merge` puts them back in the whole run's order.
 #[test]
 fn three_sweep_shards_together_give_exactly_the_rows_of_the_whole_sweep() {
     let out = std::env::temp_dir().join(format!("rodlab-sweep-shards-{}", std::process::id()));
@@ -185,18 +185,7 @@ fn three_sweep_shards_together_give_exactly_the_rows_of_the_whole_sweep() {
             None => "passive_bending_sweep.csv".to_string(),
             Some(s) => format!("passive_bending_sweep_shard{}.csv", s.replace('/', "of")),
         };
-        let csv = std::fs::read_to_string(out.join(name)).unwrap();
-        // every column but the step time, read as CSV (a failure message may hold commas)
-        let header = csv.lines().next().unwrap();
-        let step_us = header.split(',').position(|c| c == "step_us").unwrap();
-        let rows: Vec<String> = (rodlab::csv_table::read(&csv, header).unwrap().iter())
-            .map(|(_, record)| {
-                let mut fields: Vec<&str> = record.iter().collect();
-                fields.remove(step_us);
-                fields.join("|")
-            })
-            .collect();
-        rows
+        rows_but_time(&out.join(name))
     };
     let whole = sweep(None);
     assert_eq!(whole.len(), 6);
@@ -212,6 +201,54 @@ fn three_sweep_shards_together_give_exactly_the_rows_of_the_whole_sweep() {
     sorted.sort();
     pieces.sort();
     assert_eq!(pieces, sorted);
+    // `rodlab merge` puts them back in the whole run's order, and writes its chart and recording
+    let merged = out.join("merged");
+    let shards =
+        ["3of3", "1of3", "2of3"].map(|s| out.join(format!("passive_bending_sweep_shard{s}.csv")));
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_rodlab"))
+        .arg("merge")
+        .args(&shards)
+        .arg("--out")
+        .arg(&merged)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    assert_eq!(
+        rows_but_time(&merged.join("passive_bending_sweep.csv")),
+        whole
+    );
+    for ext in ["svg", "png", "rrd"] {
+        assert!(
+            merged.join(format!("passive_bending_sweep.{ext}")).exists(),
+            "{ext}"
+        );
+    }
+    // two of three shards are refused, naming what is missing
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_rodlab"))
+        .arg("merge")
+        .args(&shards[..2])
+        .output()
+        .unwrap();
+    let message = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        !output.status.success() && message.contains("each of 1 to 3 of 3"),
+        "{message}"
+    );
+}
+
+/// A sweep CSV's rows, every column but the step time joined by `|`, read as CSV (a failure
+/// message may hold commas).
+fn rows_but_time(csv: &std::path::Path) -> Vec<String> {
+    let csv = std::fs::read_to_string(csv).unwrap();
+    let header = csv.lines().next().unwrap();
+    let step_us = header.split(',').position(|c| c == "step_us").unwrap();
+    (rodlab::csv_table::read(&csv, header).unwrap().iter())
+        .map(|(_, record)| {
+            let mut fields: Vec<&str> = record.iter().collect();
+            fields.remove(step_us);
+            fields.join("|")
+        })
+        .collect()
 }
 
 /// A failure message holding commas, quotes and a newline survives the CSV whole (it used to
