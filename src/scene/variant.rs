@@ -19,7 +19,7 @@ impl Overrides {
 /// A variant name: given, non-empty, `[a-z0-9_]`, not taken.
 pub(super) fn check_variant_name(name: Option<&str>, taken: &[&str]) -> Result<(), String> {
     let Some(name) = name else {
-        return Err("a [[variant]] needs a name (it names a recording)".into());
+        return Err("a [[variant]] needs a name or a method (it names a recording)".into());
     };
     if name.is_empty()
         || !name

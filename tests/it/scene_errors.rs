@@ -566,7 +566,7 @@ fn variants_override_the_settings_and_their_mistakes_name_their_lines() {
     assert_eq!(
         e,
         format!(
-            "scenes/x.toml:{}: variant[0]: a [[variant]] needs a name (it names a recording)",
+            "scenes/x.toml:{}: variant[0]: a [[variant]] needs a name or a method (it names a recording)",
             line - 1
         )
     );
