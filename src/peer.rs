@@ -212,8 +212,11 @@ pub fn run(scene: &Scene, iterations: u32, repeats: u32) -> anyhow::Result<Sweep
         "rapier".into(),
         spine,
         "spherical".into(),
-        def.dt,
-        iterations,
+        crate::world::Settings {
+            dt: def.dt,
+            iterations,
+            ..Default::default()
+        },
     );
     crate::sweep::time_and_measure(row, def.frames, repeats, || {
         let lab = scene.build()?;

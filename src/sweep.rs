@@ -1,36 +1,28 @@
 //! `rodlab sweep SCENE`: speed against accuracy.
 //!
-//! The scene is run headless once per combination of spine, joint flavour, row solver,
-//! substeps per frame, contact warm start, softness and stacking, time step and iteration count. Each run measures
+//! The scene is run headless once per combination of named method, spine, joint flavour and
+//! the values listed for any method setting ([`SettingLists`]; `rodlab settings` lists them),
+//! iterations innermost. Each run measures
 //! - the cost: the median wall time of `World::step` over the frames after a warm-up, pooled
 //!   over `repeats` runs (the residuals are deterministic, only the time varies);
 //! - the accuracy: the residual after each frame (paper Fig. 8) per ragdoll, as the mean and the
 //!   maximum over frames and ragdolls of the dislocation (cm) and the angular violation (rad).
 //!
-//! A method is a spine and a joint flavour (`rod/exact`), with the row solver when not scalar,
-//! the substeps when more than one, and the contacts' warm start, softness and stacking when on
-//! (`rod/exact simd x4 warm0.25 soft30Hz stack10`); its line on the chart runs through
-//! its iteration counts, so the speed/accuracy frontier is the lower-left envelope of the lines,
-//! and lines of one method at several substeps show whether iterations or substeps buy more
-//! accuracy per microsecond.
+//! A method is a spine and a joint flavour (`rod/exact`), followed by the declared label of
+//! each method setting that differs from the paper's (`rod/exact simd x4 warm0.25 soft30Hz`),
+//! or a named method and its spine (`rod game`) followed by the settings that differ from the
+//! method's own; its line on the chart runs through its iteration counts, so the
+//! speed/accuracy frontier is the lower-left envelope of the lines.
 //! A run that stops (NaN or an explosion) keeps its row, with the error, and no residual.
 //!
 //! CSV columns (`recordings/<scene>_sweep.csv`, one row per run, header first):
 //!
 //! | column | meaning |
 //! |---|---|
-//! | `method` | `<spine>/<joint>[ simd][ x<substeps>][ warm<w>][ soft<f>Hz][ stack<k>][ redetect][ sweeps<n>][ block]`, e.g. `rod/exact x4` (` block`: the rod's bend and twist as one block) |
+//! | `method` | the line's label, as above (` block`: the rod's bend and twist as one block) |
 //! | `spine` | chain3, rod or single |
 //! | `joint` | cheap or exact |
-//! | `solver` | scalar or simd (empty for a peer engine) |
-//! | `substeps` | substeps per frame, each of `dt / substeps` (1: the paper's method) |
-//! | `warm_start` | contacts' warm-start fraction (0: the paper's method) |
-//! | `contact_hertz` | soft contacts' frequency (0: hard, the paper's method) |
-//! | `contact_stacking` | stacking's rate k (1/m; 0: the paper's method) |
-//! | `contact_detection` | when contact points are found: `frame` (the paper's method) or `substep` (label ` redetect`) |
-//! | `contact_extra_sweeps` | sweeps of the contacts alone after each substep's iterations (0: the paper's method; label ` sweeps<n>`) |
-//! | `dt` | time step (s) of a frame |
-//! | `iterations` | solver iterations per substep |
+//! | one column per method setting | its value in the run, named as in scene files (`solver`, `substeps`, ..., `dt`, `iterations`) |
 //! | `step_us` | median time per step (microseconds) |
 //! | `mean_dislocation_cm`, `max_dislocation_cm` | per ragdoll, over frames |
 //! | `mean_angular_rad`, `max_angular_rad` | per ragdoll, over frames |
@@ -46,14 +38,16 @@ use crate::metrics::FrameMetrics;
 use crate::ragdoll::SpineKind;
 use crate::scene::{Method, Scene};
 use crate::sim::Overrides;
-use crate::world::{ContactDetection, SolverKind};
+use crate::world::Settings;
 
 mod combinations;
 mod features;
 pub mod layouts;
 mod table;
 
-pub use combinations::{combinations, method_label, named_method_label};
+pub use combinations::{
+    combinations, method_label, named_method_label, SettingLists, DEFAULT_ITERATIONS,
+};
 pub use features::{feature_costs, FeatureCost};
 pub use table::{parse_csv, to_csv};
 
@@ -61,35 +55,19 @@ pub use table::{parse_csv, to_csv};
 #[derive(Clone, Debug)]
 pub struct SweepConfig {
     /// Named methods, each a line of its own beside the others (empty: the scene's own
-    /// method); the lists below that are empty keep each method's settings, and `iterations`
+    /// method); the lists that are empty keep each method's settings, and `iterations`
     /// counts solves per frame: a method at `s` substeps runs `max(1, n / s)` iterations each.
     pub methods: Vec<Method>,
-    /// Solver iterations per substep.
-    pub iterations: Vec<u32>,
     /// Ragdoll spines.
     pub spines: Vec<SpineKind>,
-    /// Ball-and-socket joint flavours.
+    /// Ball-and-socket joint flavours; empty keeps the scene's (or the method's).
     pub joints: Vec<JointFlavour>,
-    /// Empty: the scene's own time step.
-    pub dts: Vec<f32>,
-    /// Substeps per frame.
-    pub substeps: Vec<u32>,
-    /// Row solvers.
-    pub solvers: Vec<SolverKind>,
-    /// Contact warm-start fractions; empty keeps the scene's.
-    pub warm_starts: Vec<f32>,
-    /// Soft-contact frequencies (Hz, 0: hard); empty keeps the scene's.
-    pub contact_hertz: Vec<f32>,
-    /// Stacking rates (1/m, 0: the paper's contacts); empty keeps the scene's.
-    pub contact_stacking: Vec<f32>,
-    /// When contact points are found (frame: the paper's); empty keeps the scene's.
-    pub contact_detection: Vec<ContactDetection>,
-    /// Contact-only sweeps after each substep's iterations (0: the paper's); empty keeps the
-    /// scene's.
-    pub contact_extra_sweeps: Vec<u32>,
     /// The rod spine's bend and twist projections (sequential, the reference; block); empty
     /// keeps the scene's. Other spines run once.
     pub bend_twist: Vec<BendTwist>,
+    /// The method settings' values, one dimension per non-empty list; `iterations` empty runs
+    /// [`DEFAULT_ITERATIONS`].
+    pub settings: SettingLists,
     /// Frames per run; `None` keeps the scene's.
     pub frames: Option<u32>,
     /// Runs per combination, pooled for the median step time.
@@ -100,18 +78,10 @@ impl Default for SweepConfig {
     fn default() -> Self {
         SweepConfig {
             methods: Vec::new(),
-            iterations: vec![1, 2, 4, 8, 16, 32],
             spines: vec![SpineKind::Chain3, SpineKind::Rod, SpineKind::Single],
             joints: vec![JointFlavour::Cheap, JointFlavour::Exact],
-            dts: Vec::new(),
-            substeps: vec![1],
-            solvers: vec![SolverKind::Scalar],
-            warm_starts: Vec::new(),
-            contact_hertz: Vec::new(),
-            contact_stacking: Vec::new(),
-            contact_detection: Vec::new(),
-            contact_extra_sweeps: Vec::new(),
             bend_twist: Vec::new(),
+            settings: SettingLists::default(),
             frames: None,
             repeats: 3,
         }
@@ -121,30 +91,16 @@ impl Default for SweepConfig {
 /// One run of the sweep: a CSV row.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SweepRow {
-    /// `<spine>/<joint>` for rodlab's methods, the engine's name for a peer.
+    /// The line's label: `<spine>/<joint>` and its settings for rodlab's methods, the engine's
+    /// name for a peer.
     pub method: String,
     /// Spine: chain3, rod or single.
     pub spine: String,
     /// cheap or exact for rodlab; the peer's joint kind for a peer.
     pub joint: String,
-    /// scalar or simd for rodlab; empty for a peer.
-    pub solver: String,
-    /// Substeps per frame (1 for a peer).
-    pub substeps: u32,
-    /// Contacts' warm-start fraction (0 for a peer).
-    pub warm_start: f32,
-    /// Soft contacts' frequency in Hz (0: hard; 0 for a peer).
-    pub contact_hertz: f32,
-    /// Stacking's rate (1/m; 0 for a peer).
-    pub contact_stacking: f32,
-    /// When contact points are found: frame or substep (frame for a peer).
-    pub contact_detection: ContactDetection,
-    /// Contact-only sweeps after each substep's iterations (0 for a peer).
-    pub contact_extra_sweeps: u32,
-    /// Frame time step (s).
-    pub dt: f32,
-    /// Iterations per substep.
-    pub iterations: u32,
+    /// The run's method settings (one CSV column each); a peer's row holds its time step and
+    /// iterations over the defaults.
+    pub settings: Settings,
     /// Median wall time (microseconds) of one `World::step` after the warm-up.
     pub step_us: f64,
     /// Dislocation per ragdoll (cm), mean over frames and ragdolls.
@@ -162,21 +118,13 @@ pub struct SweepRow {
 }
 
 impl SweepRow {
-    /// A row for `method` before it is measured.
-    pub fn new(method: String, spine: String, joint: String, dt: f32, iterations: u32) -> Self {
+    /// A row for `method` at `settings` before it is measured.
+    pub fn new(method: String, spine: String, joint: String, settings: Settings) -> Self {
         SweepRow {
             method,
             spine,
             joint,
-            solver: String::new(),
-            substeps: 1,
-            warm_start: 0.0,
-            contact_hertz: 0.0,
-            contact_stacking: 0.0,
-            contact_detection: ContactDetection::Frame,
-            contact_extra_sweeps: 0,
-            dt,
-            iterations,
+            settings,
             step_us: 0.0,
             mean_dislocation_cm: 0.0,
             max_dislocation_cm: 0.0,
@@ -198,20 +146,14 @@ pub fn run_one(scene: &Scene, overrides: &Overrides, repeats: u32) -> anyhow::Re
         Some(method) => named_method_label(method, spine, def),
         None => method_label(spine, def),
     };
-    let mut row = SweepRow::new(
+    let mut settings = Settings::default();
+    def.write_method_settings(&mut settings);
+    let row = SweepRow::new(
         label,
         spine.to_string(),
         def.joint_flavour.to_string(),
-        def.dt,
-        def.iterations,
+        settings,
     );
-    row.solver = def.solver.to_string();
-    row.substeps = def.substeps;
-    row.warm_start = def.contact_warm_start;
-    row.contact_hertz = def.contact_hertz;
-    row.contact_stacking = def.contact_stacking;
-    row.contact_detection = def.contact_detection;
-    row.contact_extra_sweeps = def.contact_extra_sweeps;
     let frames = def.frames;
     time_and_measure(row, frames, repeats, || Ok(scene.build()?))
 }
@@ -326,11 +268,11 @@ pub fn overlap_chart(scene: &str, rows: &[SweepRow], machine: &str) -> Option<Ch
 /// One line per method (and time step, when several) of `(step_us, y(row))` through its
 /// iteration counts, log-log; the caller names the chart and its y axis.
 fn lines(rows: &[SweepRow], y: impl Fn(&SweepRow) -> f64) -> Chart {
-    let several_dts = rows.iter().any(|r| r.dt != rows[0].dt);
+    let several_dts = rows.iter().any(|r| r.settings.dt != rows[0].settings.dt);
     let mut series: Vec<Series> = Vec::new();
     for row in rows.iter().filter(|r| r.failed.is_none()) {
         let label = if several_dts {
-            format!("{} dt={:.4}", row.method, row.dt)
+            format!("{} dt={:.4}", row.method, row.settings.dt)
         } else {
             row.method.clone()
         };

@@ -9,12 +9,11 @@ use crate::ragdoll::{SelfContacts, SpineKind};
 use crate::scene::bounds::MAX_THREADS;
 use crate::scene::{Method, RodOverrides, SoftnessOverride};
 use crate::sim::Overrides;
-use crate::world::{ContactDetection, SolverKind};
 
 use super::parse::{
-    non_negative, parse_choice, positive_angular_speed, positive_seconds, positive_speed,
-    positive_stiffness, seed_list, stacking_rate, stacking_ratio, unit_interval, SeedList,
+    non_negative, parse_choice, positive_stiffness, seed_list, unit_interval, SeedList,
 };
+use super::settings_args::{MethodFlags, MethodListFlags};
 use super::tune;
 
 /// The `rodlab` command line.
@@ -32,7 +31,8 @@ pub struct Cli {
 
 // The doc comments are `--help` text, where `<out>` is a placeholder, not HTML.
 /// The subcommands of `rodlab`.
-#[allow(rustdoc::invalid_html_tags)]
+// A command is parsed once per process, so its variants' sizes do not matter.
+#[allow(rustdoc::invalid_html_tags, clippy::large_enum_variant)]
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// The main job: every scene in a folder -> <out>/<scene>.rrd, plus a residual summary
@@ -100,6 +100,9 @@ pub enum Command {
     Outputs,
     /// The named methods (paper, game, tight): each one's settings, as a scene file writes them.
     Methods,
+    /// The method settings: each one's key (a scene file's, a `[[variant]]`'s; the flag is the
+    /// key with dashes), unit, values, value in each named method and what it does.
+    Settings,
     /// A sweep's shards (`sweep --shard I/N`) back into the whole sweep: every shard's
     /// <name>_sweep_shardIofN.csv -> <out>/<name>_sweep.csv, .svg, .png and .rrd, in the order an
     /// unsharded run writes them.
@@ -151,11 +154,6 @@ pub struct SweepArgs {
     /// left unset keeping each method's settings.
     #[arg(long, value_delimiter = ',', value_parser = parse_choice::<Method>)]
     pub methods: Vec<Method>,
-    /// Iteration counts, comma separated; with --methods, solves per frame (a method at S
-    /// substeps runs N / S iterations each, at least one).
-    #[arg(long, value_delimiter = ',', default_value = "1,2,4,8,16,32",
-          value_parser = clap::value_parser!(u32).range(1..))]
-    pub iterations: Vec<u32>,
     /// Spines, comma separated.
     #[arg(long, value_delimiter = ',', default_value = "chain3,rod,single",
           value_parser = parse_choice::<SpineKind>)]
@@ -163,34 +161,6 @@ pub struct SweepArgs {
     /// Joint flavours, comma separated; default cheap,exact (with --methods, each method's).
     #[arg(long, value_delimiter = ',', value_parser = parse_choice::<JointFlavour>)]
     pub joint: Vec<JointFlavour>,
-    /// Time steps (s), comma separated; default the scene's.
-    #[arg(long, value_delimiter = ',', value_parser = positive_seconds)]
-    pub dt: Vec<f32>,
-    /// Substeps per frame, comma separated (each substep runs the iterations); default 1 (with
-    /// --methods, each method's).
-    #[arg(long, value_delimiter = ',', value_parser = clap::value_parser!(u32).range(1..))]
-    pub substeps: Vec<u32>,
-    /// Row solvers, comma separated: scalar, simd; default scalar (with --methods, each
-    /// method's).
-    #[arg(long, value_delimiter = ',', value_parser = parse_choice::<SolverKind>)]
-    pub solver: Vec<SolverKind>,
-    /// Contact warm-start fractions (0 to 1), comma separated; default the scene's.
-    #[arg(long, value_delimiter = ',', value_parser = unit_interval)]
-    pub contact_warm_start: Vec<f32>,
-    /// Soft-contact frequencies (Hz, 0: hard), comma separated; default the scene's.
-    #[arg(long, value_delimiter = ',', value_parser = non_negative)]
-    pub contact_hertz: Vec<f32>,
-    /// Stacking rates (1/m, 0: the paper's contacts), comma separated; default the scene's.
-    #[arg(long, value_delimiter = ',', value_parser = stacking_rate)]
-    pub contact_stacking: Vec<f32>,
-    /// When contact points are found, comma separated: frame (the paper's), substep; default
-    /// the scene's.
-    #[arg(long, value_delimiter = ',', value_parser = parse_choice::<ContactDetection>)]
-    pub contact_detection: Vec<ContactDetection>,
-    /// Contact-only sweeps after each substep's iterations, comma separated (0: the paper's);
-    /// default the scene's.
-    #[arg(long, value_delimiter = ',', value_parser = clap::value_parser!(u32).range(..=10_000))]
-    pub contact_extra_sweeps: Vec<u32>,
     /// The rod spine's parts, comma separated: sequential (the reference), block (bend and
     /// twist as one block, curve and length on shared frames); default the scene's. Other
     /// spines run once.
@@ -215,6 +185,11 @@ pub struct SweepArgs {
     /// Folder for the CSV, the chart and the recording
     #[arg(long, default_value = "recordings")]
     pub out: PathBuf,
+    /// Values of the method settings, one dimension each (`--iterations`, unset, runs
+    /// 1,2,4,8,16,32; with --methods it counts solves per frame, a method at S substeps running
+    /// N / S iterations each, at least one).
+    #[command(flatten)]
+    pub settings: MethodListFlags,
 }
 
 /// Settings that override a scene file's, for `run` and `all`.
@@ -225,65 +200,9 @@ pub struct OverrideArgs {
     /// (`rodlab methods` prints each).
     #[arg(long, value_parser = parse_choice::<Method>)]
     pub method: Option<Method>,
-    /// Solver iterations per substep (per frame with one substep).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
-    pub iterations: Option<u32>,
-    /// Substeps per frame, each of dt / N with all the iterations.
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
-    pub substeps: Option<u32>,
-    /// Row solver: scalar or simd.
-    #[arg(long, value_parser = parse_choice::<SolverKind>)]
-    pub solver: Option<SolverKind>,
-    /// Sleeping of still islands: true or false (default: the scene's `sleep`).
-    #[arg(long)]
-    pub sleep: Option<bool>,
-    /// Fastest push out of deep contact overlap (m/s; inf: at once).
-    #[arg(long, value_parser = positive_speed)]
-    pub contact_push_speed: Option<f32>,
-    /// Fraction of their last impulses contacts start each substep with (0 to 1; default: the
-    /// scene's `contact_warm_start`).
-    #[arg(long, value_parser = unit_interval)]
-    pub contact_warm_start: Option<f32>,
-    /// Soft contacts' natural frequency (Hz; 0: hard, the paper's; default the scene's).
-    #[arg(long, value_parser = non_negative)]
-    pub contact_hertz: Option<f32>,
-    /// Soft contacts' damping ratio (default the scene's).
-    #[arg(long, value_parser = non_negative)]
-    pub contact_damping_ratio: Option<f32>,
-    /// Stacking (1/m): in a contact the lower body counts e^(k dh) times heavier, dh the
-    /// other's height above it (0: the paper's contact; default the scene's `contact_stacking`).
-    #[arg(long, value_parser = stacking_rate)]
-    pub contact_stacking: Option<f32>,
-    /// The most times heavier stacking makes the lower body, e^(k dh) capped (1 or more; inf:
-    /// no cap; default the scene's `contact_stacking_max_ratio`).
-    #[arg(long, value_parser = stacking_ratio)]
-    pub contact_stacking_max_ratio: Option<f32>,
-    /// When contact points are found: frame (once a frame, the paper's) or substep (afresh at
-    /// every substep); default the scene's `contact_detection`.
-    #[arg(long, value_parser = parse_choice::<ContactDetection>)]
-    pub contact_detection: Option<ContactDetection>,
-    /// Contact-only sweeps after each substep's iterations (0: none, the paper's; default the
-    /// scene's `contact_extra_sweeps`).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(..=10_000))]
-    pub contact_extra_sweeps: Option<u32>,
-    /// Each substep a faster body's spin is scaled down to this angular speed (rad/s), as
-    /// Jolt, PhysX and Box2D do; inf: none, the paper's (default the scene's).
-    #[arg(long, value_parser = positive_angular_speed)]
-    pub angular_speed_limit: Option<f32>,
-    /// Joint damping, a dashpot across every joint (N m s/rad; 0: none, the paper's; default
-    /// the scene's `joint_damping`).
-    #[arg(long, value_parser = non_negative)]
-    pub joint_damping: Option<f32>,
-    /// Joint friction, the most torque every joint resists a turn with (N m; 0: none, the
-    /// paper's; default the scene's `joint_friction`).
-    #[arg(long, value_parser = non_negative)]
-    pub joint_friction: Option<f32>,
     /// Worker threads of the solver (at most 1024); default rayon's (one per core).
     #[arg(long, value_parser = clap::value_parser!(u64).range(1..=MAX_THREADS))]
     pub threads: Option<u64>,
-    /// Time step (s).
-    #[arg(long, value_parser = positive_seconds)]
-    pub dt: Option<f32>,
     /// Frames to simulate.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     pub frames: Option<u32>,
@@ -329,30 +248,17 @@ pub struct OverrideArgs {
     /// sample of the same drop.
     #[arg(long)]
     pub seed: Option<u64>,
+    /// The method settings.
+    #[command(flatten)]
+    pub settings: MethodFlags,
 }
 
 impl From<&OverrideArgs> for Overrides {
     fn from(a: &OverrideArgs) -> Self {
-        Overrides {
+        let mut overrides = Overrides {
             method: a.method,
-            iterations: a.iterations,
-            substeps: a.substeps,
-            solver: a.solver,
-            sleep: a.sleep,
-            contact_push_speed: a.contact_push_speed,
-            contact_extra_sweeps: a.contact_extra_sweeps,
-            contact_warm_start: a.contact_warm_start,
-            contact_hertz: a.contact_hertz,
-            contact_damping_ratio: a.contact_damping_ratio,
-            contact_stacking: a.contact_stacking,
-            contact_stacking_max_ratio: a.contact_stacking_max_ratio,
-            contact_detection: a.contact_detection,
-            angular_speed_limit: a.angular_speed_limit,
-            joint_damping: a.joint_damping,
-            joint_friction: a.joint_friction,
             self_contacts: a.self_contacts,
             seed: a.seed,
-            dt: a.dt,
             frames: a.frames,
             spine: a.spine,
             joint_flavour: a.joint,
@@ -372,6 +278,9 @@ impl From<&OverrideArgs> for Overrides {
             },
             name: None,
             record_every: a.record_every,
-        }
+            ..Default::default()
+        };
+        a.settings.write_into(&mut overrides);
+        overrides
     }
 }

@@ -11,6 +11,7 @@ use crate::record;
 use crate::scene::Scene;
 use crate::shard::Shard;
 use crate::sim::{Overrides, RunReport};
+use crate::sweep::SettingLists;
 
 use super::run::{load_scene, record_kinematics_scene, record_scene};
 use super::summary::print_summary;
@@ -64,7 +65,10 @@ pub(super) fn main_job() -> anyhow::Result<()> {
     // the paper's one step a frame (the reference line) beside 4 substeps, on one cost axis,
     // and the rod's bend and twist one after the other (the reference) beside one block
     let config = crate::sweep::SweepConfig {
-        substeps: vec![1, 4],
+        settings: SettingLists {
+            substeps: vec![1, 4],
+            ..Default::default()
+        },
         bend_twist: vec![BendTwist::Sequential, BendTwist::Block],
         ..Default::default()
     };
@@ -77,11 +81,12 @@ pub(super) fn main_job() -> anyhow::Result<()> {
     // seconds of the pile
     let config = crate::sweep::SweepConfig {
         methods: crate::scene::Method::ALL.to_vec(),
-        iterations: vec![4, 20, 40],
+        settings: SettingLists {
+            iterations: vec![4, 20, 40],
+            ..Default::default()
+        },
         spines: vec![SpineKind::Chain3, SpineKind::Rod],
         joints: Vec::new(),
-        substeps: Vec::new(),
-        solvers: Vec::new(),
         frames: Some(300),
         repeats: 1,
         ..Default::default()

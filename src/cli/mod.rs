@@ -63,6 +63,7 @@ mod layouts;
 mod main_job;
 mod parse;
 mod run;
+mod settings_args;
 pub mod stop;
 mod stress;
 mod summary;
@@ -123,29 +124,17 @@ fn dispatch_command(cli: Cli, matches: &ArgMatches) -> anyhow::Result<()> {
     match cli.command {
         None => main_job(),
         Some(Command::Sweep(args)) => {
-            // without named methods an unset list is the paper's line
-            let default = crate::sweep::SweepConfig::default();
-            fn or_default<T>(list: Vec<T>, default: Vec<T>, methods: bool) -> Vec<T> {
-                match list.is_empty() && !methods {
-                    true => default,
-                    false => list,
-                }
-            }
-            let methods = !args.methods.is_empty();
+            // without named methods an unset joint list is both flavours
+            let joints = match args.joint.is_empty() && args.methods.is_empty() {
+                true => crate::sweep::SweepConfig::default().joints,
+                false => args.joint,
+            };
             let config = crate::sweep::SweepConfig {
-                joints: or_default(args.joint, default.joints, methods),
-                substeps: or_default(args.substeps, default.substeps, methods),
-                solvers: or_default(args.solver, default.solvers, methods),
+                joints,
                 methods: args.methods,
-                iterations: args.iterations,
                 spines: args.spines,
-                dts: args.dt,
-                warm_starts: args.contact_warm_start,
-                contact_hertz: args.contact_hertz,
-                contact_stacking: args.contact_stacking,
-                contact_detection: args.contact_detection,
-                contact_extra_sweeps: args.contact_extra_sweeps,
                 bend_twist: args.bend_twist,
+                settings: args.settings.into(),
                 frames: args.frames,
                 repeats: args.repeats,
             };
@@ -192,6 +181,10 @@ fn dispatch_command(cli: Cli, matches: &ArgMatches) -> anyhow::Result<()> {
             for method in crate::scene::Method::ALL {
                 report!("# method = \"{method}\"{}", method.settings_toml());
             }
+            Ok(())
+        }
+        Some(Command::Settings) => {
+            report!("{}", crate::scene::settings_table());
             Ok(())
         }
         Some(Command::Tune(args)) => tune::tune(&args),

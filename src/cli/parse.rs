@@ -1,12 +1,7 @@
 //! Value parsers for the command line's options: each refuses a bad value with a message
 //! saying what it must be.
 
-/// Parses a choice the way scene files spell it (the enum's serde names).
-pub(crate) fn parse_choice<T: serde::de::DeserializeOwned>(s: &str) -> Result<T, String> {
-    use serde::de::IntoDeserializer;
-    T::deserialize(s.into_deserializer())
-        .map_err(|e: serde::de::value::Error| e.to_string().replace('`', "\""))
-}
+pub(crate) use crate::solver::declared::parse_choice;
 
 /// Parses a number and keeps it where `holds`; otherwise says what it must do, e.g. "must be
 /// 0 or more, got -1".
@@ -28,42 +23,10 @@ pub(super) fn non_negative(s: &str) -> Result<f32, String> {
     number_where(s, |v| v >= 0.0 && v.is_finite(), "be 0 or more")
 }
 
-/// A positive, finite time step (s).
-pub(super) fn positive_seconds(s: &str) -> Result<f32, String> {
-    let holds = |v: f32| v > 0.0 && v.is_finite();
-    number_where(s, holds, "be a positive number of seconds")
-}
-
 /// A positive, finite stiffness (N m/rad).
 pub(super) fn positive_stiffness(s: &str) -> Result<f32, String> {
     let holds = |v: f32| v > 0.0 && v.is_finite();
     number_where(s, holds, "be a positive stiffness in N m/rad")
-}
-
-/// A positive speed (m/s), or inf for no limit.
-pub(super) fn positive_speed(s: &str) -> Result<f32, String> {
-    number_where(s, |v| v > 0.0, "be a positive speed in m/s (or inf)")
-}
-
-/// A positive angular speed (rad/s), or inf for no limit.
-pub(super) fn positive_angular_speed(s: &str) -> Result<f32, String> {
-    number_where(
-        s,
-        |v| v > 0.0,
-        "be a positive angular speed in rad/s (or inf)",
-    )
-}
-
-/// A contact stacking rate (1/m) from 0 to the scene bound.
-pub(super) fn stacking_rate(s: &str) -> Result<f32, String> {
-    let max = crate::scene::MAX_CONTACT_STACKING;
-    let must = format!("be a rate from 0 to {max} per metre");
-    number_where(s, |v| (0.0..=max).contains(&v), &must)
-}
-
-/// A cap on stacking's mass ratio: 1 or more (or inf).
-pub(super) fn stacking_ratio(s: &str) -> Result<f32, String> {
-    number_where(s, |v| v >= 1.0, "be a mass ratio of 1 or more (or inf)")
 }
 
 /// Layout seeds: numbers and inclusive ranges, comma separated (`1-16,20`); at most 100 000.

@@ -38,7 +38,7 @@ pub(super) fn sweep(
     }
     let machine = crate::machine::name();
     let peer_runs = if peer.is_some() {
-        let count = config.iterations.len() * config.dts.len().max(1);
+        let count = peer_iterations(config).len() * config.settings.dt.len().max(1);
         (first_peer..first_peer + count)
             .filter(|&i| shard.takes(i))
             .count()
@@ -134,9 +134,9 @@ fn print_rows(rows: &[crate::sweep::SweepRow]) {
             None => report!(
                 "  {:<36} {:>8.4} {:>4} {:>5} {:>10.1} {:>12.4} {:>12.4} {:>10.5} {:>10.2}",
                 r.method,
-                r.dt,
-                r.substeps,
-                r.iterations,
+                r.settings.dt,
+                r.settings.substeps,
+                r.settings.iterations,
                 r.step_us,
                 r.mean_dislocation_cm,
                 r.max_dislocation_cm,
@@ -146,9 +146,9 @@ fn print_rows(rows: &[crate::sweep::SweepRow]) {
             Some(e) => report!(
                 "  {:<36} {:>8.4} {:>4} {:>5} failed: {e}",
                 r.method,
-                r.dt,
-                r.substeps,
-                r.iterations
+                r.settings.dt,
+                r.settings.substeps,
+                r.settings.iterations
             ),
         }
     }
@@ -255,14 +255,14 @@ fn peer_rows(
     progress: &mut Progress,
 ) -> anyhow::Result<Vec<crate::sweep::SweepRow>> {
     let mut index = first_index;
-    let dts = if config.dts.is_empty() {
+    let dts = if config.settings.dt.is_empty() {
         vec![scene.def.dt]
     } else {
-        config.dts.clone()
+        config.settings.dt.clone()
     };
     let mut rows = Vec::new();
     for dt in dts {
-        for &iterations in &config.iterations {
+        for iterations in peer_iterations(config) {
             index += 1;
             if !shard.takes(index - 1) {
                 continue;
@@ -399,5 +399,13 @@ impl Progress {
             self.total,
             self.started.elapsed().as_secs_f32()
         );
+    }
+}
+
+/// The peer's iteration counts: the sweep's, or its default list.
+fn peer_iterations(config: &crate::sweep::SweepConfig) -> Vec<u32> {
+    match config.settings.iterations.is_empty() {
+        true => crate::sweep::DEFAULT_ITERATIONS.to_vec(),
+        false => config.settings.iterations.clone(),
     }
 }

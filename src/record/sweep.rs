@@ -57,7 +57,7 @@ pub fn save_sweep(
             .iter()
             .filter(|row| row.method == *method && row.failed.is_none())
         {
-            rec.set_time_sequence("iterations", row.iterations as i64);
+            rec.set_time_sequence("iterations", row.settings.iterations as i64);
             if row.mean_dislocation_cm > 0.0 {
                 rec.log(
                     format!("sweep/residual_log10/{entity}"),

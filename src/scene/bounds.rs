@@ -6,16 +6,11 @@
 use super::locate::Seg;
 use super::{BodyDef, DropDef, JointDef, RagdollDef, SceneDef};
 
-/// Iterations per substep, at most.
-pub const MAX_ITERATIONS: u32 = 10_000;
-/// Substeps per frame, at most.
-pub const MAX_SUBSTEPS: u32 = 1_000;
+pub use crate::solver::{MAX_CONTACT_STACKING, MAX_DT, MAX_ITERATIONS, MAX_SUBSTEPS};
 /// Frames per run, at most (46 h at 60 Hz).
 pub const MAX_FRAMES: u32 = 10_000_000;
 /// Worker threads of the solver's pool, at most (`--threads`).
 pub const MAX_THREADS: u64 = 1024;
-/// The longest time step (s).
-pub const MAX_DT: f32 = 1.0;
 /// Ragdolls a `[drop]` block makes, at most.
 pub const MAX_DROP_COUNT: usize = 10_000;
 /// Bodies the `[[tile]]` groups expand to, all together, at most.
@@ -58,25 +53,11 @@ pub(super) fn within(values: &[f32], max: f32, what: &str) -> Result<(), String>
 /// The method settings (also a variant's, applied: `prefix` its path).
 pub fn check_settings(d: &SceneDef, prefix: &[Seg]) -> Result<(), Failure> {
     let at = |name: &str| key(prefix, &[k(name)]);
-    if d.dt > MAX_DT {
+    if d.frames > MAX_FRAMES {
         return Err((
-            at("dt"),
-            format!("must be at most {MAX_DT} s, got {}", d.dt),
+            at("frames"),
+            format!("must be at most {MAX_FRAMES}, got {}", d.frames),
         ));
-    }
-    for (name, value, max) in [
-        ("iterations", d.iterations, MAX_ITERATIONS),
-        ("substeps", d.substeps, MAX_SUBSTEPS),
-        (
-            "contact_extra_sweeps",
-            d.contact_extra_sweeps,
-            MAX_ITERATIONS,
-        ),
-        ("frames", d.frames, MAX_FRAMES),
-    ] {
-        if value > max {
-            return Err((at(name), format!("must be at most {max}, got {value}")));
-        }
     }
     within(&d.gravity, MAX_GRAVITY, "accelerations (m/s^2)").map_err(|m| (at("gravity"), m))?;
     if !(0.0..=MAX_CONTACT_MARGIN).contains(&d.contact_margin) {

@@ -83,33 +83,20 @@ impl Scene {
 
 /// The world's settings this scene asks for.
 fn settings(d: &SceneDef) -> Settings {
-    Settings {
+    let mut settings = Settings {
         gravity: Vec3::from(d.gravity),
-        dt: d.dt,
-        iterations: d.iterations,
-        substeps: d.substeps,
-        solver: d.solver,
         max_linear_speed: d.max_speed,
         max_angular_speed: d.max_angular_speed,
-        angular_speed_limit: d.angular_speed_limit,
         max_separation: d.max_separation,
         max_penetration: d.max_penetration,
         contacts: d.contacts,
         contact_margin: d.contact_margin,
-        contact_detection: d.contact_detection,
-        contact_push_speed: d.contact_push_speed,
-        contact_extra_sweeps: d.contact_extra_sweeps,
-        contact_warm_start: d.contact_warm_start,
-        contact_hertz: d.contact_hertz,
-        contact_damping_ratio: d.contact_damping_ratio,
-        contact_stacking: d.contact_stacking,
-        contact_stacking_max_ratio: d.contact_stacking_max_ratio,
-        sleep: d.sleep,
         linear_damping: d.damping[0],
         angular_damping: d.damping[1],
-        joint_damping: d.joint_damping,
-        joint_friction: d.joint_friction,
-    }
+        ..Settings::default()
+    };
+    d.write_method_settings(&mut settings);
+    settings
 }
 
 /// The humanoid a `[[ragdoll]]` describes (its alphas or stiffness, pose, forces, springs).

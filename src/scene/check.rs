@@ -7,6 +7,7 @@ use super::check_items::{
 };
 use super::locate::Seg;
 use super::{variant, BodyDef, KindDef, Scene, SceneDef, ShapeKind, TileDef};
+use crate::world::Settings;
 
 impl Scene {
     /// The `[[tile]]` groups, before they are expanded: sizes, names, and fixed bodies only.
@@ -174,20 +175,23 @@ impl Scene {
     }
 }
 
-/// The scene's method settings (a variant's too, with `prefix` its path): time step, counts,
-/// damping, contact options.
+/// The scene's settings (a variant's too, with `prefix` its path): each method setting within
+/// its declared bounds, then the world's (counts, bounds, damping).
 fn check_settings(d: &SceneDef, prefix: &[Seg]) -> Result<(), Failure> {
+    let at = |field: &str| {
+        let mut path = prefix.to_vec();
+        path.push(Seg::Key(field.into()));
+        path
+    };
+    let mut method = Settings::default();
+    d.write_method_settings(&mut method);
+    method
+        .check_method()
+        .map_err(|(field, message)| (at(field), message))?;
     let non_negative = |x: f32| x >= 0.0 && x.is_finite();
     let ci_frames = d.ci_frames.unwrap_or(1);
     // (field, whether it holds, what to say when it does not), checked in this order
     let rules = [
-        (
-            "dt",
-            d.dt > 0.0 && d.dt.is_finite(),
-            format!("must be a positive number of seconds, got {}", d.dt),
-        ),
-        ("iterations", d.iterations > 0, "must be at least 1".into()),
-        ("substeps", d.substeps > 0, "must be at least 1".into()),
         ("frames", d.frames > 0, "must be at least 1".into()),
         (
             "ci_frames",
@@ -199,16 +203,6 @@ fn check_settings(d: &SceneDef, prefix: &[Seg]) -> Result<(), Failure> {
             "damping",
             d.damping.iter().all(|&c| non_negative(c)),
             format!("rates must be non-negative, got {:?}", d.damping),
-        ),
-        (
-            "joint_damping",
-            non_negative(d.joint_damping),
-            format!("must be 0 or more (N m s/rad), got {}", d.joint_damping),
-        ),
-        (
-            "joint_friction",
-            non_negative(d.joint_friction),
-            format!("must be 0 or more (N m), got {}", d.joint_friction),
         ),
         (
             "max_separation",
@@ -231,68 +225,9 @@ fn check_settings(d: &SceneDef, prefix: &[Seg]) -> Result<(), Failure> {
             d.max_angular_speed > 0.0,
             "must be positive".into(),
         ),
-        (
-            "angular_speed_limit",
-            d.angular_speed_limit > 0.0,
-            format!(
-                "must be a positive angular speed in rad/s (or inf), got {}",
-                d.angular_speed_limit
-            ),
-        ),
-        (
-            "contact_push_speed",
-            d.contact_push_speed > 0.0,
-            format!(
-                "must be a positive speed in m/s (or inf), got {}",
-                d.contact_push_speed
-            ),
-        ),
-        (
-            "contact_warm_start",
-            (0.0..=1.0).contains(&d.contact_warm_start),
-            format!(
-                "must be a fraction from 0 to 1, got {}",
-                d.contact_warm_start
-            ),
-        ),
-        (
-            "contact_hertz",
-            non_negative(d.contact_hertz),
-            format!(
-                "must be a frequency of 0 Hz or more, got {}",
-                d.contact_hertz
-            ),
-        ),
-        (
-            "contact_damping_ratio",
-            non_negative(d.contact_damping_ratio),
-            format!("must be 0 or more, got {}", d.contact_damping_ratio),
-        ),
-        (
-            "contact_stacking",
-            (0.0..=MAX_CONTACT_STACKING).contains(&d.contact_stacking),
-            format!(
-                "must be a rate from 0 to {MAX_CONTACT_STACKING} per metre, got {}",
-                d.contact_stacking
-            ),
-        ),
-        (
-            "contact_stacking_max_ratio",
-            d.contact_stacking_max_ratio >= 1.0,
-            format!(
-                "must be a mass ratio of 1 or more (or inf), got {}",
-                d.contact_stacking_max_ratio
-            ),
-        ),
     ];
     if let Some((field, _, message)) = rules.into_iter().find(|(_, holds, _)| !holds) {
-        let mut path = prefix.to_vec();
-        path.push(Seg::Key(field.into()));
-        return Err((path, message));
+        return Err((at(field), message));
     }
     bounds::check_settings(d, prefix)
 }
-
-/// The largest stacking rate a scene may ask for (1/m): at 1000 a body 1 cm lower already
-/// counts 22 000 times heavier.
-pub const MAX_CONTACT_STACKING: f32 = 1000.0;

@@ -13,7 +13,9 @@
 
 use serde::Deserialize;
 
-use super::Overrides;
+use super::{Overrides, SceneDef};
+use crate::solver::METHOD_SETTINGS;
+use crate::world::Settings;
 
 /// A named bundle of method settings.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Deserialize)]
@@ -55,6 +57,40 @@ impl Method {
             .try_into()
             .expect("a method's settings are valid overrides")
     }
+}
+
+/// The method settings as a Markdown table (`rodlab settings`, docs/scene-format.md): each
+/// one's key, unit, values, its value in each named method, and what it does.
+pub fn settings_table() -> String {
+    let values: Vec<Vec<(&str, String)>> = (Method::ALL.iter())
+        .map(|m| {
+            let mut def: SceneDef = toml::from_str("").expect("an empty scene is valid");
+            m.overrides().apply(&mut def);
+            let mut settings = Settings::default();
+            def.write_method_settings(&mut settings);
+            settings.method_texts()
+        })
+        .collect();
+    let mut table = String::from("| setting | unit | values |");
+    for method in Method::ALL {
+        table += &format!(" `{method}` |");
+    }
+    table += " what it does |\n|---|---|---|";
+    table += &"---|".repeat(Method::ALL.len() + 1);
+    for (i, declared) in METHOD_SETTINGS.iter().enumerate() {
+        let doc: Vec<&str> = declared.doc.lines().map(str::trim).collect();
+        table += &format!(
+            "\n| `{}` | {} | {} |",
+            declared.name,
+            declared.unit,
+            (declared.values)().replace(&format!(" ({})", declared.unit), "")
+        );
+        for method in &values {
+            table += &format!(" {} |", method[i].1);
+        }
+        table += &format!(" {} |", doc.join(" "));
+    }
+    table + "\n"
 }
 
 impl std::fmt::Display for Method {

@@ -26,9 +26,8 @@ mod overrides;
 mod variant;
 
 pub use build::LOOSE_GROUP;
-pub use check::MAX_CONTACT_STACKING;
 pub use def::*;
-pub use method::Method;
+pub use method::{settings_table, Method};
 pub use overrides::{Overrides, RodOverrides, SoftnessOverride};
 
 use std::path::{Path, PathBuf};

@@ -7,77 +7,69 @@ use super::locate::{self, Seg};
 use super::{Method, RagdollDef, Scene, SceneDef};
 use crate::constraint::{BendTwist, JointFlavour, TwistMode};
 use crate::ragdoll::{SelfContacts, SpineKind};
-use crate::world::{ContactDetection, SolverKind};
 
-/// Overrides of a scene file's settings: the command line's, or a `[[variant]]`'s, which is
-/// read straight into this type; `None` keeps the file's.
-///
-/// A `[[variant]]` names itself and may set the method fields, `iterations` through
-/// `self_contacts`. The fields marked "command line only" are not read from a scene file,
-/// so a variant that sets one is refused as an unknown field, at its line.
-#[derive(Clone, Debug, Default, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Overrides {
+/// Defines [`Overrides`]: its own fields and every method setting
+/// (`method_settings!` (`solver::settings`)) as an optional field.
+macro_rules! overrides_struct {
+    ({ $( $(#[$fmeta:meta])* $field:ident : $fty:ty, )* }
+     $( $(#[doc = $doc:literal])* $name:ident : $ty:ty = $default:expr,
+        unit $unit:literal, bounds $bounds:expr, label $label:literal; )*) => {
+        /// Overrides of a scene file's settings: the command line's, or a `[[variant]]`'s,
+        /// which is read straight into this type; `None` keeps the file's.
+        ///
+        /// A `[[variant]]` names itself and may set its `method`, any method setting
+        /// (`rodlab settings`), `joint_flavour` and `self_contacts`. The fields marked
+        /// "command line only" are not read from a scene file, so a variant that sets one is
+        /// refused as an unknown field, at its line.
+        #[derive(Clone, Debug, Default, Deserialize)]
+        #[serde(deny_unknown_fields)]
+        pub struct Overrides {
+            $( $(#[$fmeta])* pub $field: $fty, )*
+            $( $(#[doc = $doc])* pub $name: Option<$ty>, )*
+        }
+
+        impl Overrides {
+            /// Writes the method settings that are set into `def`.
+            fn apply_method_settings(&self, def: &mut SceneDef) {
+                $( set(&mut def.$name, self.$name.clone()); )*
+            }
+
+            /// Whether the method setting `key` is set.
+            fn sets_method_setting(&self, key: &str) -> bool {
+                $( (key == stringify!($name) && self.$name.is_some()) )||*
+            }
+        }
+    };
+}
+
+crate::solver::method_settings!(overrides_struct! {
     /// The `[[variant]]`'s name: lower-case letters, digits and underscores, unique in the
     /// scene (it names a recording). `None` for the command line's overrides.
-    pub name: Option<String>,
-    /// A named bundle of the fields below ([`Method`]), applied before them: a variant's own
-    /// fields, or the command line's flags, win over its method's.
-    pub method: Option<Method>,
-    /// Solver iterations per substep.
-    pub iterations: Option<u32>,
-    /// Substeps per frame.
-    pub substeps: Option<u32>,
-    /// How the rows of a colour are solved: scalar or simd.
-    pub solver: Option<SolverKind>,
-    /// Whether islands of still bodies fall asleep.
-    pub sleep: Option<bool>,
+    name: Option<String>,
+    /// A named bundle of the method settings ([`Method`]), applied before them: a variant's
+    /// own fields, or the command line's flags, win over its method's.
+    method: Option<Method>,
     /// Flavour of every ball-and-socket joint: the scene's default, every ragdoll's and every
     /// `[[joint]]`'s.
-    pub joint_flavour: Option<JointFlavour>,
-    /// Speed limit on pushing out deep overlap (m/s).
-    pub contact_push_speed: Option<f32>,
-    /// Contact-only sweeps after each substep's iterations.
-    pub contact_extra_sweeps: Option<u32>,
-    /// Fraction of their last impulses contacts start each substep with (0 to 1).
-    pub contact_warm_start: Option<f32>,
-    /// Soft contacts' natural frequency (Hz); 0 is the hard projection.
-    pub contact_hertz: Option<f32>,
-    /// Soft contacts' damping ratio (1: critical).
-    pub contact_damping_ratio: Option<f32>,
-    /// Contact mass scaling by height (1/m); 0 is the paper's contact.
-    pub contact_stacking: Option<f32>,
-    /// The most times heavier stacking makes the lower body (1 or more, or inf).
-    pub contact_stacking_max_ratio: Option<f32>,
-    /// When contact points are found: once a frame or every substep.
-    pub contact_detection: Option<ContactDetection>,
-    /// Rotational dashpot across every joint and rod (N m s/rad).
-    pub joint_damping: Option<f32>,
-    /// Coulomb friction torque across every joint and rod (N m).
-    pub joint_friction: Option<f32>,
-    /// Angular speed a body's spin is scaled down to each substep (rad/s; inf: none).
-    pub angular_speed_limit: Option<f32>,
+    joint_flavour: Option<JointFlavour>,
     /// Which pairs of each ragdoll's own bodies may collide ([`SelfContacts`]).
-    pub self_contacts: Option<SelfContacts>,
-    /// Frame time step (s). Command line only.
-    #[serde(skip)]
-    pub dt: Option<f32>,
+    self_contacts: Option<SelfContacts>,
     /// Frames to run. Command line only.
     #[serde(skip)]
-    pub frames: Option<u32>,
+    frames: Option<u32>,
     /// Spine of every ragdoll. Command line only (the main job runs a variant per spine).
     #[serde(skip)]
-    pub spine: Option<SpineKind>,
+    spine: Option<SpineKind>,
     /// Softness and twist measure of every rod and rod spine. Command line only.
     #[serde(skip)]
-    pub rod: RodOverrides,
+    rod: RodOverrides,
     /// Record every N-th frame. Command line only.
     #[serde(skip)]
-    pub record_every: Option<u32>,
+    record_every: Option<u32>,
     /// The `[drop]` block's layout seed (each ragdoll's yaw and tip). Command line only.
     #[serde(skip)]
-    pub seed: Option<u64>,
-}
+    seed: Option<u64>,
+});
 
 /// The command line's settings of every rod and rod spine.
 #[derive(Clone, Copy, Debug, Default)]
@@ -127,25 +119,7 @@ impl Overrides {
                 }
             }
         }
-        set(&mut def.iterations, self.iterations);
-        set(&mut def.substeps, self.substeps);
-        set(&mut def.solver, self.solver);
-        set(&mut def.sleep, self.sleep);
-        set(&mut def.contact_push_speed, self.contact_push_speed);
-        set(&mut def.contact_extra_sweeps, self.contact_extra_sweeps);
-        set(&mut def.contact_warm_start, self.contact_warm_start);
-        set(&mut def.contact_hertz, self.contact_hertz);
-        set(&mut def.contact_damping_ratio, self.contact_damping_ratio);
-        set(&mut def.contact_stacking, self.contact_stacking);
-        set(
-            &mut def.contact_stacking_max_ratio,
-            self.contact_stacking_max_ratio,
-        );
-        set(&mut def.contact_detection, self.contact_detection);
-        set(&mut def.angular_speed_limit, self.angular_speed_limit);
-        set(&mut def.joint_damping, self.joint_damping);
-        set(&mut def.joint_friction, self.joint_friction);
-        set(&mut def.dt, self.dt);
+        self.apply_method_settings(def);
         set(&mut def.frames, self.frames);
         if let Some(frames) = self.frames {
             // the main job's shorter run cannot be longer than the run
@@ -225,67 +199,17 @@ impl Overrides {
     }
 
     /// The flag that set the field at `path`, if the overrides set it.
-    fn flag_of(&self, path: &[Seg]) -> Option<&'static str> {
+    fn flag_of(&self, path: &[Seg]) -> Option<String> {
         let Some(Seg::Key(field)) = path.last() else {
             return None;
         };
+        if self.sets_method_setting(field) {
+            return Some(format!("--{}", field.replace('_', "-")));
+        }
         let RodOverrides { bend, twist, .. } = self.rod;
         let flags = [
-            ("iterations", "--iterations", self.iterations.is_some()),
-            ("substeps", "--substeps", self.substeps.is_some()),
-            ("dt", "--dt", self.dt.is_some()),
             ("frames", "--frames", self.frames.is_some()),
             ("every", "--record-every", self.record_every.is_some()),
-            (
-                "contact_push_speed",
-                "--contact-push-speed",
-                self.contact_push_speed.is_some(),
-            ),
-            (
-                "contact_extra_sweeps",
-                "--contact-extra-sweeps",
-                self.contact_extra_sweeps.is_some(),
-            ),
-            (
-                "contact_warm_start",
-                "--contact-warm-start",
-                self.contact_warm_start.is_some(),
-            ),
-            (
-                "contact_hertz",
-                "--contact-hertz",
-                self.contact_hertz.is_some(),
-            ),
-            (
-                "contact_damping_ratio",
-                "--contact-damping-ratio",
-                self.contact_damping_ratio.is_some(),
-            ),
-            (
-                "contact_stacking",
-                "--contact-stacking",
-                self.contact_stacking.is_some(),
-            ),
-            (
-                "contact_stacking_max_ratio",
-                "--contact-stacking-max-ratio",
-                self.contact_stacking_max_ratio.is_some(),
-            ),
-            (
-                "angular_speed_limit",
-                "--angular-speed-limit",
-                self.angular_speed_limit.is_some(),
-            ),
-            (
-                "joint_damping",
-                "--joint-damping",
-                self.joint_damping.is_some(),
-            ),
-            (
-                "joint_friction",
-                "--joint-friction",
-                self.joint_friction.is_some(),
-            ),
             ("alpha_b", "--alpha-b", bend.alpha.is_some()),
             ("alpha_t", "--alpha-t", twist.alpha.is_some()),
             (
@@ -303,7 +227,7 @@ impl Overrides {
         ];
         (flags.into_iter())
             .find(|(name, _, given)| *given && name == field)
-            .map(|(_, flag, _)| flag)
+            .map(|(_, flag, _)| flag.to_string())
     }
 
     /// What the overrides cannot do to `def` (after [`Overrides::apply`]): a seed for a scene

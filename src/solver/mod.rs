@@ -67,6 +67,7 @@
 //! of a colour write disjoint bodies. Once warmed up, the step does not allocate: every
 //! vector here is reused from frame to frame.
 
+pub mod declared;
 pub mod graph;
 mod integrate;
 mod integrate_lanes;
@@ -84,6 +85,7 @@ use crate::constraint::{Constraint, Constraints, DamperRow, JointDamping, JointR
 use crate::contact::{ContactPoint, Contacts};
 use crate::lanes::LaneWidth;
 use body::{SharedBodies, SolverBody};
+pub use declared::{Bounds, Declaration, SettingValue};
 use graph::{Colouring, Colours, Order};
 use integrate::{commit_pose, integrate_velocity, predict_pose};
 pub use integrate::{gyroscopic_update, GYROSCOPIC_PASSES};
@@ -93,9 +95,11 @@ pub use profile::Profile;
 use rayon::prelude::*;
 use rows::{solve_colours, sweep};
 pub use rows::{Row, ScalarRows};
+pub(crate) use settings::method_settings;
 pub use settings::{
-    ContactDetection, Settings, SolverKind, DEFAULT_CONTACT_PUSH_SPEED, DEFAULT_MAX_ANGULAR_SPEED,
-    DEFAULT_MAX_LINEAR_SPEED, DEFAULT_MAX_PENETRATION, DEFAULT_MAX_SEPARATION,
+    ContactDetection, Settings, SolverKind, DEFAULT_MAX_ANGULAR_SPEED, DEFAULT_MAX_LINEAR_SPEED,
+    DEFAULT_MAX_PENETRATION, DEFAULT_MAX_SEPARATION, MAX_CONTACT_STACKING, MAX_DT, MAX_ITERATIONS,
+    MAX_SUBSTEPS, METHOD_SETTINGS,
 };
 use std::time::Instant;
 

@@ -1,123 +1,107 @@
-//! The sweep's combinations (spine, joint, solver, substeps, contact options, named methods,
-//! time step, iterations) and the label each method's line gets on the chart.
+//! The sweep's combinations (named methods, spines, joint flavours and the method settings'
+//! lists) and the label each method's line gets on the chart.
 
 use super::SweepConfig;
 use crate::constraint::BendTwist;
 use crate::ragdoll::SpineKind;
 use crate::scene::{Method, RodOverrides, SceneDef};
 use crate::sim::Overrides;
-use crate::world::{ContactDetection, SolverKind};
+use crate::solver::METHOD_SETTINGS;
+use crate::world::{ContactDetection, Settings};
 
-/// The combinations in run order: spine, joint, solver, substeps, warm start (these make the
-/// method), then time step, then iterations. An empty `substeps`, `solvers` or `warm_starts`
-/// list keeps the scene's.
-pub fn combinations(def: &SceneDef, config: &SweepConfig) -> Vec<Overrides> {
-    if config.methods.is_empty() {
-        return combinations_at(def, config, None);
-    }
-    let at = |method: Method| {
-        let mut def = def.clone();
-        method.overrides().apply(&mut def);
-        combinations_at(&def, config, Some(method))
-    };
-    config.methods.iter().flat_map(|&m| at(m)).collect()
-}
+/// Defines [`SettingLists`]: a list of values for each method setting
+/// (`method_settings!` (`solver::settings`)), each a dimension of the sweep.
+macro_rules! setting_lists {
+    ({} $( $(#[doc = $doc:literal])* $name:ident : $ty:ty = $default:expr,
+        unit $unit:literal, bounds $bounds:expr, label $label:literal; )*) => {
+        /// The values a sweep runs each method setting at (`rodlab settings` lists them): one
+        /// dimension per non-empty list; an empty list keeps the scene's (or the named
+        /// method's) value.
+        #[derive(Clone, Debug, Default, PartialEq)]
+        pub struct SettingLists {
+            $( $(#[doc = $doc])* pub $name: Vec<$ty>, )*
+        }
 
-/// [`combinations`] of one method (`None`: the scene's own), an empty list keeping `def`'s.
-fn combinations_at(def: &SceneDef, config: &SweepConfig, method: Option<Method>) -> Vec<Overrides> {
-    let or_scene = |list: &[f32], scene: f32| match list.is_empty() {
-        true => vec![scene],
-        false => list.to_vec(),
-    };
-    let dts = or_scene(&config.dts, def.dt);
-    let substeps = match config.substeps.is_empty() {
-        true => vec![def.substeps],
-        false => config.substeps.clone(),
-    };
-    let solvers = match config.solvers.is_empty() {
-        true => vec![def.solver],
-        false => config.solvers.clone(),
-    };
-    let joints = match config.joints.is_empty() {
-        true => vec![def.joint_flavour],
-        false => config.joints.clone(),
-    };
-    let warm_starts = or_scene(&config.warm_starts, def.contact_warm_start);
-    let hertz_list = or_scene(&config.contact_hertz, def.contact_hertz);
-    let stacking_list = or_scene(&config.contact_stacking, def.contact_stacking);
-    let detections = match config.contact_detection.is_empty() {
-        true => vec![def.contact_detection],
-        false => config.contact_detection.clone(),
-    };
-    let extra_sweeps = match config.contact_extra_sweeps.is_empty() {
-        true => vec![def.contact_extra_sweeps],
-        false => config.contact_extra_sweeps.clone(),
-    };
-    let mut contact_methods = Vec::new();
-    for &w in &warm_starts {
-        for &f in &hertz_list {
-            for &k in &stacking_list {
-                for &d in &detections {
-                    contact_methods.extend(extra_sweeps.iter().map(|&n| (w, f, k, d, n)));
-                }
+        impl SettingLists {
+            /// Every combination of the lists over each of `base`, in the declared order (the
+            /// first setting outermost, `iterations` innermost).
+            fn expand(&self, mut all: Vec<Overrides>) -> Vec<Overrides> {
+                $( if !self.$name.is_empty() {
+                    all = (all.into_iter())
+                        .flat_map(|o| self.$name.iter().map(move |v| Overrides {
+                            $name: Some(v.clone()),
+                            ..o.clone()
+                        }))
+                        .collect();
+                } )*
+                all
             }
         }
+    };
+}
+crate::solver::method_settings!(setting_lists! {});
+
+/// The iteration counts a sweep runs when it is given none: solves per frame for named methods.
+pub const DEFAULT_ITERATIONS: [u32; 6] = [1, 2, 4, 8, 16, 32];
+
+/// The combinations in run order: method, spine, the rod's bend-twist projection, joint
+/// flavour, then the method settings' lists in their declared order (`iterations` last).
+pub fn combinations(def: &SceneDef, config: &SweepConfig) -> Vec<Overrides> {
+    let mut lists = config.settings.clone();
+    if lists.iterations.is_empty() {
+        lists.iterations = DEFAULT_ITERATIONS.to_vec();
     }
+    let methods: Vec<Option<Method>> = match config.methods.is_empty() {
+        true => vec![None],
+        false => config.methods.iter().map(|&m| Some(m)).collect(),
+    };
     // the rod's bend-twist projection is a rod spine's method dimension only
     let bend_twists = |spine: SpineKind| match (spine, config.bend_twist.is_empty()) {
         (SpineKind::Rod, false) => config.bend_twist.iter().map(|&b| Some(b)).collect(),
         _ => vec![None],
     };
     let mut all = Vec::new();
-    for &spine in &config.spines {
-        for bend_twist in bend_twists(spine) {
-            for &joint in &joints {
-                for &solver in &solvers {
-                    for &substeps in &substeps {
-                        for &(warm, hertz, stacking, detection, sweeps) in &contact_methods {
-                            // one substep detects once a frame either way: the same method twice
-                            let frame_listed = detections.contains(&ContactDetection::Frame);
-                            if substeps == 1
-                                && detection == ContactDetection::Substep
-                                && frame_listed
-                            {
-                                continue;
-                            }
-                            // a named method's budget is solves per frame, its iterations
-                            // per substep that budget shared by its substeps
-                            let mut iteration_counts: Vec<u32> = match method {
-                                None => config.iterations.clone(),
-                                Some(_) => (config.iterations.iter())
-                                    .map(|&n| (n / substeps).max(1))
-                                    .collect(),
-                            };
-                            iteration_counts.dedup();
-                            for &dt in &dts {
-                                for &iterations in &iteration_counts {
-                                    all.push(Overrides {
-                                        method,
-                                        spine: Some(spine),
-                                        joint_flavour: Some(joint),
-                                        solver: Some(solver),
-                                        substeps: Some(substeps),
-                                        contact_warm_start: Some(warm),
-                                        contact_hertz: Some(hertz),
-                                        contact_stacking: Some(stacking),
-                                        contact_detection: Some(detection),
-                                        contact_extra_sweeps: Some(sweeps),
-                                        dt: Some(dt),
-                                        iterations: Some(iterations),
-                                        frames: config.frames,
-                                        rod: RodOverrides {
-                                            bend_twist,
-                                            ..Default::default()
-                                        },
-                                        ..Default::default()
-                                    });
-                                }
-                            }
+    for &method in &methods {
+        let mut own = def.clone();
+        if let Some(method) = method {
+            method.overrides().apply(&mut own);
+        }
+        let joints = match config.joints.is_empty() {
+            true => vec![own.joint_flavour],
+            false => config.joints.clone(),
+        };
+        for &spine in &config.spines {
+            for bend_twist in bend_twists(spine) {
+                for &joint in &joints {
+                    let base = Overrides {
+                        method,
+                        spine: Some(spine),
+                        joint_flavour: Some(joint),
+                        frames: config.frames,
+                        rod: RodOverrides {
+                            bend_twist,
+                            ..Default::default()
+                        },
+                        ..Default::default()
+                    };
+                    let mut runs = lists.expand(vec![base]);
+                    if method.is_some() {
+                        // a named method's budget is solves per frame, its iterations per
+                        // substep that budget shared by its substeps
+                        for o in &mut runs {
+                            let substeps = o.substeps.unwrap_or(own.substeps);
+                            o.iterations = o.iterations.map(|n| (n / substeps).max(1));
                         }
+                        runs.dedup_by(|a, b| format!("{a:?}") == format!("{b:?}"));
                     }
+                    // one substep detects once a frame either way: the same method twice
+                    let frame_listed = lists.contact_detection.contains(&ContactDetection::Frame);
+                    runs.retain(|o| {
+                        let substeps = o.substeps.unwrap_or(own.substeps);
+                        let detection = o.contact_detection.unwrap_or(own.contact_detection);
+                        !(substeps == 1 && detection == ContactDetection::Substep && frame_listed)
+                    });
+                    all.extend(runs);
                 }
             }
         }
@@ -125,19 +109,17 @@ fn combinations_at(def: &SceneDef, config: &SweepConfig, method: Option<Method>)
     all
 }
 
-/// The method's label: `<spine>/<joint>`, then ` simd` unless scalar, ` x<substeps>` unless
-/// 1, ` warm<w>`, ` soft<f>Hz` and ` stack<k>` unless 0, ` redetect` with detection every
-/// substep, ` sweeps<n>` with extra contact sweeps, and ` block` for a rod spine with its bend
-/// and twist as one block (so the paper's method keeps its plain name); the joint flavour,
-/// solver, substeps
-/// and contact settings are the scene's.
+/// The method's label: `<spine>/<joint>`, then a part for each method setting whose value
+/// differs from the paper's (its declared label, e.g. ` simd`, ` x4`, ` soft60Hz`), and
+/// ` block` for a rod spine with its bend and twist as one block, so the paper's method keeps
+/// its plain name.
 pub fn method_label(spine: SpineKind, def: &SceneDef) -> String {
     let mut label = format!("{spine}/{}", def.joint_flavour);
     label += &label_suffixes(spine, def).concat();
     label
 }
 
-/// A named method's label: `<spine> <method>`, then the suffixes of [`method_label`] where the
+/// A named method's label: `<spine> <method>`, then the parts of [`method_label`] where the
 /// run's settings differ from the method's own (a dimension swept across the methods).
 pub fn named_method_label(method: Method, spine: SpineKind, def: &SceneDef) -> String {
     let mut own = def.clone();
@@ -155,42 +137,20 @@ pub fn named_method_label(method: Method, spine: SpineKind, def: &SceneDef) -> S
     label
 }
 
-/// The suffixes of [`method_label`] after `<spine>/<joint>`.
+/// The parts of [`method_label`] after `<spine>/<joint>`.
 fn label_suffixes(spine: SpineKind, def: &SceneDef) -> Vec<String> {
-    let mut label = Vec::new();
-    if def.solver != SolverKind::Scalar {
-        label.push(format!(" {}", def.solver));
-    }
-    if def.substeps != 1 {
-        label.push(format!(" x{}", def.substeps));
-    }
-    if def.contact_warm_start != 0.0 {
-        label.push(format!(" warm{}", def.contact_warm_start));
-    }
-    if def.contact_hertz != 0.0 {
-        label.push(format!(" soft{}Hz", def.contact_hertz));
-    }
-    if def.contact_stacking != 0.0 {
-        label.push(format!(" stack{}", def.contact_stacking));
-        if def.contact_stacking_max_ratio.is_finite() {
-            label.push(format!("<={}", def.contact_stacking_max_ratio));
-        }
-    }
-    if def.contact_detection != ContactDetection::Frame {
-        label.push(" redetect".into());
-    }
-    if def.contact_extra_sweeps != 0 {
-        label.push(format!(" sweeps{}", def.contact_extra_sweeps));
-    }
+    let mut settings = Settings::default();
+    def.write_method_settings(&mut settings);
+    let paper = Settings::default().method_texts();
+    let mut label: Vec<String> = (METHOD_SETTINGS.iter())
+        .zip(settings.method_texts().into_iter().zip(paper))
+        .filter(|(_, ((_, value), (_, reference)))| value != reference)
+        .map(|(declared, ((_, value), _))| declared.label_of(&value))
+        .filter(|part| !part.is_empty())
+        .collect();
     let block = |b: Option<BendTwist>| b == Some(BendTwist::Block);
     if spine == SpineKind::Rod && def.ragdoll.iter().any(|r| block(r.bend_twist)) {
         label.push(" block".into());
-    }
-    if def.joint_damping > 0.0 {
-        label.push(format!(" jd{}", def.joint_damping));
-    }
-    if def.joint_friction > 0.0 {
-        label.push(format!(" jf{}", def.joint_friction));
     }
     label
 }

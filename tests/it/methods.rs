@@ -156,3 +156,80 @@ fn the_game_method_holds_stacks_and_separates_overlap_gently() {
         "overlap: paper {paper} m/s, game {game} m/s, tight {tight} m/s"
     );
 }
+
+/// Each method setting is declared once, and a scene file's key, a `[[variant]]`'s key and the
+/// sweep's and `run`'s flags all take it from there: every declared setting at its `tight`
+/// value reads back from both keys into the world's settings, and a value out of its bounds is
+/// refused at its line, naming the field, from both.
+#[test]
+fn every_declared_setting_is_a_scene_key_and_a_variant_key_with_its_bounds() {
+    use rodlab::solver::{Bounds, METHOD_SETTINGS};
+    use rodlab::world::Settings;
+    let mut tight = Settings::default();
+    let mut def: rodlab::scene::SceneDef = toml::from_str("").unwrap();
+    Method::Tight.overrides().apply(&mut def);
+    def.write_method_settings(&mut tight);
+    let quoted = |name: &str, text: String| match name {
+        "solver" | "contact_detection" => format!("\"{text}\""),
+        _ => text,
+    };
+    for ((name, text), declared) in tight.method_texts().into_iter().zip(METHOD_SETTINGS) {
+        assert_eq!(name, declared.name);
+        let key = format!("{name} = {}", quoted(name, text.clone()));
+        let scene = Scene::parse(
+            "s.toml",
+            &format!("{key}\n[[variant]]\nname = \"v\"\n{key}\n"),
+        )
+        .unwrap_or_else(|e| panic!("{key}: {e}"));
+        let value_in = |def: &rodlab::scene::SceneDef| {
+            let mut read = Settings::default();
+            def.write_method_settings(&mut read);
+            let texts = read.method_texts();
+            texts.into_iter().find(|(n, _)| *n == name).unwrap().1
+        };
+        assert_eq!(value_in(&scene.def), text);
+        assert_eq!(value_in(&scene.variant("v").unwrap().def), text);
+        // below its bounds: refused at the line, naming the field
+        let below = match declared.bounds {
+            Bounds::Count { min: 0, .. } | Bounds::Any => continue,
+            Bounds::Count { .. } => "0".to_string(),
+            Bounds::Number { .. } => "-1.0".to_string(),
+        };
+        for (text, line, field) in [
+            (
+                format!("frames = 3\n{name} = {below}\n"),
+                2,
+                name.to_string(),
+            ),
+            (
+                format!("[[variant]]\nname = \"v\"\n{name} = {below}\n"),
+                3,
+                format!("variant[0].{name}"),
+            ),
+        ] {
+            let e = Scene::parse("s.toml", &text).unwrap_err().to_string();
+            assert!(
+                e.starts_with(&format!("s.toml:{line}: {field}: must be")),
+                "{text}: {e}"
+            );
+        }
+    }
+}
+
+/// docs/scene-format.md holds `rodlab settings`' table as the declarations print it.
+#[test]
+fn the_scene_format_docs_hold_the_declared_settings_table() {
+    let docs =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/scene-format.md"))
+            .unwrap();
+    let table = docs
+        .split("<!-- rodlab settings -->\n")
+        .nth(1)
+        .and_then(|rest| rest.split("<!-- end rodlab settings -->").next())
+        .expect("the markers around the table");
+    assert_eq!(
+        table.trim(),
+        rodlab::scene::settings_table().trim(),
+        "regenerate the table with `rodlab settings`"
+    );
+}

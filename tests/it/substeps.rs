@@ -9,7 +9,7 @@ use rodlab::math::{Quat, Vec3};
 use rodlab::ragdoll::SpineKind;
 use rodlab::scene::Scene;
 use rodlab::shape::{Axis, Shape};
-use rodlab::sweep::{self, SweepConfig};
+use rodlab::sweep::{self, SettingLists, SweepConfig};
 use rodlab::world::{ContactDetection, Settings, SolverKind, World};
 
 const LINKS: usize = 20;
@@ -189,8 +189,11 @@ fn sweep_residual_falls_with_substeps_for_every_method() {
     ))
     .unwrap();
     let config = SweepConfig {
-        iterations: vec![4],
-        substeps: vec![1, 2, 4],
+        settings: SettingLists {
+            iterations: vec![4],
+            substeps: vec![1, 2, 4],
+            ..Default::default()
+        },
         frames: Some(120),
         repeats: 1,
         ..Default::default()
@@ -207,7 +210,7 @@ fn sweep_residual_falls_with_substeps_for_every_method() {
             [&format!("{base} x2"), &format!("{base} x4")]
         );
         assert_eq!(
-            line.iter().map(|r| r.substeps).collect::<Vec<_>>(),
+            line.iter().map(|r| r.settings.substeps).collect::<Vec<_>>(),
             [1, 2, 4]
         );
         let residual: Vec<f64> = line.iter().map(|r| r.mean_dislocation_cm).collect();
@@ -233,11 +236,14 @@ fn sweep_solver_dimension_labels_simd_rows() {
     ))
     .unwrap();
     let config = SweepConfig {
-        iterations: vec![8],
+        settings: SettingLists {
+            iterations: vec![8],
+            solver: vec![SolverKind::Scalar, SolverKind::Simd],
+            substeps: vec![2],
+            ..Default::default()
+        },
         spines: vec![SpineKind::Rod],
         joints: vec![JointFlavour::Exact],
-        solvers: vec![SolverKind::Scalar, SolverKind::Simd],
-        substeps: vec![2],
         frames: Some(60),
         repeats: 1,
         ..Default::default()
@@ -246,13 +252,16 @@ fn sweep_solver_dimension_labels_simd_rows() {
         .iter()
         .map(|o| sweep::run_one(&scene, o, 1).unwrap())
         .collect();
-    let labels: Vec<(&str, &str)> = rows
+    let labels: Vec<(&str, SolverKind)> = rows
         .iter()
-        .map(|r| (r.method.as_str(), r.solver.as_str()))
+        .map(|r| (r.method.as_str(), r.settings.solver))
         .collect();
     assert_eq!(
         labels,
-        [("rod/exact x2", "scalar"), ("rod/exact simd x2", "simd")]
+        [
+            ("rod/exact x2", SolverKind::Scalar),
+            ("rod/exact simd x2", SolverKind::Simd)
+        ]
     );
     let (scalar, simd) = (rows[0].mean_dislocation_cm, rows[1].mean_dislocation_cm);
     assert!(

@@ -4,7 +4,7 @@
 use rodlab::constraint::JointFlavour;
 use rodlab::ragdoll::SpineKind;
 use rodlab::scene::Scene;
-use rodlab::sweep::{self, SweepConfig, SweepRow};
+use rodlab::sweep::{self, SettingLists, SweepConfig, SweepRow};
 
 const SCENES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes");
 
@@ -28,9 +28,9 @@ fn assert_falls_with_iterations(rows: &[SweepRow], ratio: f64) {
                 pair[1].mean_dislocation_cm < pair[0].mean_dislocation_cm,
                 "{method}: {} cm at {} iterations, {} cm at {}",
                 pair[1].mean_dislocation_cm,
-                pair[1].iterations,
+                pair[1].settings.iterations,
                 pair[0].mean_dislocation_cm,
-                pair[0].iterations
+                pair[0].settings.iterations
             );
         }
         let (first, last) = (line[0], line[line.len() - 1]);
@@ -62,7 +62,10 @@ fn residual_falls_as_iterations_rise_in_a_short_drop_with_contacts() {
     let rows = run(
         "ragdoll_drop",
         &SweepConfig {
-            iterations: vec![2, 8, 32],
+            settings: SettingLists {
+                iterations: vec![2, 8, 32],
+                ..Default::default()
+            },
             spines: vec![SpineKind::Chain3, SpineKind::Rod],
             joints: vec![JointFlavour::Exact],
             frames: Some(120),
@@ -90,7 +93,10 @@ fn csv_columns_are_documented_and_read_back() {
     let rows = run(
         "passive_bending",
         &SweepConfig {
-            iterations: vec![1, 4],
+            settings: SettingLists {
+                iterations: vec![1, 4],
+                ..Default::default()
+            },
             spines: vec![SpineKind::Rod],
             frames: Some(20),
             repeats: 1,
@@ -101,7 +107,15 @@ fn csv_columns_are_documented_and_read_back() {
     let header = csv.lines().next().unwrap();
     let docs =
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/src/sweep.rs")).unwrap();
-    for column in header.split(',') {
+    // the method settings' columns are the declared settings, in order; the others are
+    // listed in the module's table
+    let settings: Vec<&str> = rodlab::solver::METHOD_SETTINGS
+        .iter()
+        .map(|d| d.name)
+        .collect();
+    let columns: Vec<&str> = header.split(',').collect();
+    assert_eq!(columns[3..3 + settings.len()], settings[..]);
+    for column in columns[..3].iter().chain(&columns[3 + settings.len()..]) {
         assert!(
             docs.contains(&format!("`{column}`")),
             "column {column} is not in the module's table of columns"
@@ -111,10 +125,10 @@ fn csv_columns_are_documented_and_read_back() {
     assert_eq!(back.len(), rows.len());
     for (a, b) in rows.iter().zip(&back) {
         assert_eq!(
-            (&a.method, &a.spine, &a.joint, a.iterations),
-            (&b.method, &b.spine, &b.joint, b.iterations)
+            (&a.method, &a.spine, &a.joint, a.settings.iterations),
+            (&b.method, &b.spine, &b.joint, b.settings.iterations)
         );
-        assert!((a.dt - b.dt).abs() < 1e-7);
+        assert!((a.settings.dt - b.settings.dt).abs() < 1e-7);
         assert!((a.step_us - b.step_us).abs() < 1e-3);
         assert!((a.mean_dislocation_cm - b.mean_dislocation_cm).abs() < 1e-6);
         assert!((a.max_angular_rad - b.max_angular_rad).abs() < 1e-6);
@@ -258,7 +272,10 @@ fn a_failure_message_with_commas_reads_back_whole() {
     let mut rows = run(
         "passive_bending",
         &SweepConfig {
-            iterations: vec![1],
+            settings: SettingLists {
+                iterations: vec![1],
+                ..Default::default()
+            },
             spines: vec![SpineKind::Rod],
             frames: Some(5),
             repeats: 1,
@@ -279,19 +296,22 @@ fn a_failure_message_with_commas_reads_back_whole() {
 #[test]
 fn extra_contact_sweeps_are_a_sweep_dimension() {
     let config = SweepConfig {
-        iterations: vec![1],
+        settings: SettingLists {
+            iterations: vec![1],
+            substeps: vec![10],
+            contact_detection: vec![rodlab::world::ContactDetection::Substep],
+            contact_extra_sweeps: vec![0, 3],
+            ..Default::default()
+        },
         spines: vec![SpineKind::Rod],
         joints: vec![JointFlavour::Cheap],
-        substeps: vec![10],
-        contact_detection: vec![rodlab::world::ContactDetection::Substep],
-        contact_extra_sweeps: vec![0, 3],
         frames: Some(90),
         repeats: 1,
         ..Default::default()
     };
     let rows = run("ragdoll_drop", &config);
     let labels: Vec<(&str, u32)> = (rows.iter())
-        .map(|r| (r.method.as_str(), r.contact_extra_sweeps))
+        .map(|r| (r.method.as_str(), r.settings.contact_extra_sweeps))
         .collect();
     assert_eq!(
         labels,
@@ -306,7 +326,7 @@ fn extra_contact_sweeps_are_a_sweep_dimension() {
         (rows[1].mean_dislocation_cm, rows[1].max_overlap_cm)
     );
     let back = sweep::parse_csv(&sweep::to_csv(&rows)).unwrap();
-    assert_eq!(back[1].contact_extra_sweeps, 3);
+    assert_eq!(back[1].settings.contact_extra_sweeps, 3);
 }
 
 /// Named methods are lines of their own at the same budget: with `--methods`, `iterations`
@@ -318,16 +338,18 @@ fn named_methods_are_lines_at_the_same_budget() {
     use rodlab::scene::Method;
     let scene = Scene::load(format!("{SCENES}/ragdoll_drop.toml")).unwrap();
     let config = SweepConfig {
+        settings: SettingLists {
+            iterations: vec![4, 20, 40],
+            ..Default::default()
+        },
         methods: Method::ALL.to_vec(),
-        iterations: vec![4, 20, 40],
         spines: vec![SpineKind::Rod],
         joints: Vec::new(),
-        substeps: Vec::new(),
-        solvers: Vec::new(),
         frames: Some(2),
         repeats: 1,
         ..Default::default()
     };
+    // each method keeps its own substeps (unset), its iterations the budget shared by them
     let runs: Vec<(Option<Method>, Option<u32>, Option<u32>)> =
         (sweep::combinations(&scene.def, &config).iter())
             .map(|o| (o.method, o.substeps, o.iterations))
@@ -335,9 +357,9 @@ fn named_methods_are_lines_at_the_same_budget() {
     let (paper, game, tight) = (Some(Method::Paper), Some(Method::Game), Some(Method::Tight));
     #[rustfmt::skip]
     assert_eq!(runs, [
-        (paper, Some(1), Some(4)), (paper, Some(1), Some(20)), (paper, Some(1), Some(40)),
-        (game, Some(4), Some(1)), (game, Some(4), Some(5)), (game, Some(4), Some(10)),
-        (tight, Some(20), Some(1)), (tight, Some(20), Some(2)),
+        (paper, None, Some(4)), (paper, None, Some(20)), (paper, None, Some(40)),
+        (game, None, Some(1)), (game, None, Some(5)), (game, None, Some(10)),
+        (tight, None, Some(1)), (tight, None, Some(2)),
     ]);
     let labels = |config: &SweepConfig| -> Vec<String> {
         let mut labels: Vec<String> = (sweep::combinations(&scene.def, config).iter())
@@ -347,7 +369,10 @@ fn named_methods_are_lines_at_the_same_budget() {
         labels
     };
     let one_budget = SweepConfig {
-        iterations: vec![20],
+        settings: SettingLists {
+            iterations: vec![20],
+            ..Default::default()
+        },
         ..config.clone()
     };
     assert_eq!(labels(&one_budget), ["rod paper", "rod game", "rod tight"]);
@@ -371,7 +396,10 @@ fn the_rod_bend_twist_block_is_a_line_beside_the_reference() {
     let rows = run(
         "passive_bending",
         &SweepConfig {
-            iterations: vec![4, 16],
+            settings: SettingLists {
+                iterations: vec![4, 16],
+                ..Default::default()
+            },
             spines: vec![SpineKind::Chain3, SpineKind::Rod],
             joints: vec![JointFlavour::Cheap],
             bend_twist: vec![BendTwist::Sequential, BendTwist::Block],
