@@ -23,6 +23,7 @@
 //! - [`sleep`]: islands of still bodies taken out of the step;
 //! - [`world`]: bodies + constraints + contacts + settings, failure detection; physics only;
 //! - [`ragdoll`]: the reference humanoid builder (spines chain3 | single | rod);
+//! - [`rig`]: game rigs and their animations, read from Jolt's text object streams;
 //! - [`skeleton`]: the animation bones posed back from the physics (§6);
 //! - [`lab`]: the world plus what the experiments measure and draw (ragdolls, their skeletons
 //!   and target poses); what scenes build and the run loop, metrics and recorder take;
@@ -61,6 +62,7 @@ pub mod peer;
 pub mod ragdoll;
 #[cfg(feature = "record")]
 pub mod record;
+pub mod rig;
 pub mod scene;
 pub mod shape;
 pub mod shard;
