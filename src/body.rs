@@ -145,6 +145,16 @@ impl Body {
         self.update_world_inertia();
     }
 
+    /// Sets the principal moments of inertia (kg m^2, along the body's axes), for a body whose
+    /// mass is not spread as its shape's.
+    pub fn set_inertia(&mut self, inertia: Vec3) {
+        self.inertia = inertia;
+        if self.kind == BodyKind::Dynamic {
+            self.inverse_inertia_body = inertia.recip();
+        }
+        self.update_world_inertia();
+    }
+
     /// Whether the body is dynamic (asleep or awake).
     pub fn is_dynamic(&self) -> bool {
         self.kind == BodyKind::Dynamic

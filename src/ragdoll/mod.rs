@@ -18,6 +18,7 @@
 //! pelvis and chest, so the total stays 75 kg.
 
 mod build;
+pub mod character;
 mod table;
 
 pub use build::build_humanoid;

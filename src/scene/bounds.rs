@@ -4,7 +4,7 @@
 //! block is expanded, so a huge `count` is refused instead of allocated.
 
 use super::locate::Seg;
-use super::{BodyDef, DropDef, JointDef, RagdollDef, SceneDef};
+use super::{BodyDef, CharacterDef, DropDef, JointDef, RagdollDef, SceneDef};
 
 pub use crate::solver::{MAX_CONTACT_STACKING, MAX_DT, MAX_ITERATIONS, MAX_SUBSTEPS};
 /// Frames per run, at most (46 h at 60 Hz).
@@ -27,6 +27,8 @@ pub const MAX_GRAVITY: f32 = 1e3;
 pub const MAX_FORCE: f32 = 1e7;
 /// Mass at most (kg) and density at most (kg/m^3).
 pub const MAX_MASS: f32 = 1e9;
+/// A clip time at most (s).
+pub const MAX_CLIP_TIME: f32 = 1e4;
 /// Contact margin at most (m).
 pub const MAX_CONTACT_MARGIN: f32 = 1.0;
 
@@ -128,6 +130,29 @@ pub fn check_ragdoll(r: &RagdollDef, at: impl Fn(&str) -> Vec<Seg>) -> Result<()
             path.push(k(part));
             (path, m)
         })?;
+    }
+    Ok(())
+}
+
+/// A character's numbers: placement, extra joint turns, clip time, the rod's relaxations.
+pub fn check_character(c: &CharacterDef, at: impl Fn(&str) -> Vec<Seg>) -> Result<(), Failure> {
+    within(&c.position, MAX_COORDINATE, "coordinates (m)").map_err(|m| (at("position"), m))?;
+    within(&c.rotation, MAX_DEGREES, "angles (deg)").map_err(|m| (at("rotation"), m))?;
+    for (joint, rotation) in &c.pose {
+        within(rotation, MAX_DEGREES, "angles (deg)").map_err(|m| {
+            let mut path = at("pose");
+            path.push(k(joint));
+            (path, m)
+        })?;
+    }
+    if !(0.0..=MAX_CLIP_TIME).contains(&c.time) {
+        let message = format!("must be a time from 0 to {MAX_CLIP_TIME} s, got {}", c.time);
+        return Err((at("time"), message));
+    }
+    for (field, alpha) in [("alpha_b", c.alpha_b), ("alpha_t", c.alpha_t)] {
+        if !(0.0..=1.0).contains(&alpha) {
+            return Err((at(field), format!("must lie in [0, 1], got {alpha}")));
+        }
     }
     Ok(())
 }

@@ -152,6 +152,11 @@ impl Scene {
             names.push(&r.name);
             check_ragdoll(r, |f| at("ragdoll", i, f))?;
         }
+        for (i, c) in d.character.iter().enumerate() {
+            check_name(&c.name, &names).map_err(|m| (at("character", i, "name"), m))?;
+            names.push(&c.name);
+            bounds::check_character(c, |f| at("character", i, f))?;
+        }
         let mut body_names = Names::default();
         for (i, b) in d.body.iter().enumerate() {
             check_name(&b.name, &body_names).map_err(|m| (at("body", i, "name"), m))?;

@@ -5,6 +5,7 @@
 #[macro_use]
 mod common;
 mod chain;
+mod character;
 mod conservation;
 mod contact_gaps;
 mod contacts;

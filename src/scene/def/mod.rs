@@ -9,11 +9,13 @@ use crate::ragdoll::SpineKind;
 use crate::world::Settings;
 
 mod bodies;
+mod characters;
 mod ragdolls;
 mod record;
 mod rods;
 
 pub use bodies::{BodyDef, JointDef, KindDef, ShapeKind, TileDef};
+pub use characters::{CharacterDef, RegionDef};
 pub use ragdolls::{DropDef, RagdollDef};
 pub use record::RecordDef;
 pub use rods::{RodDef, StiffnessDef};
@@ -78,6 +80,8 @@ crate::solver::method_settings!(scene_def! {
     record: RecordDef = RecordDef::default(),
     /// Reference humanoids (`[[ragdoll]]`).
     ragdoll: Vec<RagdollDef> = Vec::new(),
+    /// Game characters from rig files (`[[character]]`).
+    character: Vec<CharacterDef> = Vec::new(),
     /// Rigid bodies (`[[body]]`).
     body: Vec<BodyDef> = Vec::new(),
     /// Groups of fixed bodies copied over a grid (expanded into `body` entries when loaded).
