@@ -99,22 +99,39 @@ fn the_rig_hangs_from_its_fixed_hips_for_ten_seconds_at_the_papers_method() {
 }
 
 /// Passive bending on the real rig (Fig. 2, top of Fig. 8): at the paper's 20 iterations the
-/// rod character's mean dislocation is under half the rig spine character's, both measured over
-/// all their joints.
+/// rod character's mean dislocation over all its joints is under half the rig spine
+/// character's (the clavicles, 0.9 kg between a 5 kg chest and a 2 kg arm, leave the most in
+/// both), and the spine's own, the rod's against the four spine joints', under a tenth.
 #[test]
 fn the_rod_character_leaves_less_residual_than_the_rigs_spine_in_passive_bending() {
     let scene = Scene::load(BENDING).unwrap();
     let mut lab = scene.build().unwrap();
-    let report = sim::run(&mut lab, scene.def.frames, &mut NoObserver).unwrap();
+    let frames = scene.def.frames;
+    let (mut rig_spine, mut rod_spine) = (0.0f64, 0.0f64);
+    for _ in 0..frames {
+        lab.step().unwrap();
+        for c in &lab.world.constraints {
+            let cm = 100.0 * c.dislocation(&lab.world.bodies) as f64 / frames as f64;
+            match c.name() {
+                n if n.starts_with("rig/C_Spine_sjnt_") => rig_spine += cm,
+                "rod/spine_rod" => rod_spine += cm,
+                _ => {}
+            }
+        }
+    }
+    assert!(
+        rod_spine < 0.1 * rig_spine,
+        "spine: rod {rod_spine} cm against the rig's four joints' {rig_spine} cm"
+    );
+    let mut lab = scene.build().unwrap();
+    let report = sim::run(&mut lab, frames, &mut NoObserver).unwrap();
     let mean = |name: &str| {
         let r = report.ragdolls.iter().find(|r| r.name == name).unwrap();
         r.summary.mean_dislocation_cm()
     };
     let (rig, rod) = (mean("rig"), mean("rod"));
-    assert!(
-        rod < 0.5 * rig,
-        "rod {rod} cm against the rig spine's {rig} cm"
-    );
+    eprintln!("all joints: rig {rig} cm, rod {rod} cm; spine: rig {rig_spine} cm, rod {rod_spine} cm");
+    assert!(rod < 0.5 * rig, "rod {rod} cm against the rig spine's {rig} cm");
 }
 
 /// A character's mistakes name the scene's line and field: an unknown part, a region that is
