@@ -1,6 +1,7 @@
 //! A game character built from a rig ([`crate::rig::Rig`]): one body per part at the pose an
-//! animation clip gives at a chosen time, the rig's swing-twist joints, its collision filter,
-//! and a spine that is the rig's own, one rod, or one ball-and-socket.
+//! animation clip gives at a chosen time and moving as the clip does there (the handover of
+//! §6), the rig's swing-twist joints, its collision filter, and a spine that is the rig's own,
+//! one rod, or one ball-and-socket.
 //!
 //! The spine region is named by its two end parts (`from`, the lower, and `to`, an
 //! ancestor-chain descendant of it: the hips and the chest). With [`CharacterSpine::Rod`] the
@@ -61,6 +62,9 @@ pub struct CharacterSpec {
     pub name: String,
     /// The rig's parts' world poses (in the rig's part order), placement included.
     pub pose: Vec<Iso>,
+    /// Each part's velocity there, of its origin and its turn (m/s, rad/s, world): what the
+    /// animation hands over.
+    pub velocities: Vec<(Vec3, Vec3)>,
     /// The spine to simulate.
     pub spine: CharacterSpine,
     /// The spine region's end parts, lower first (joint names).
@@ -143,6 +147,13 @@ pub fn build_character(
         let (mut body, frame) = part_body(part, extra, kind);
         let pose = spec.pose[i] * frame;
         body.name = format!("{}/{}", spec.name, part.joint_name);
+        if kind == BodyKind::Dynamic {
+            // the centre of mass moves with the part's origin and turns about it
+            let (linear, angular) = spec.velocities[i];
+            let arm = spec.pose[i].rotation * frame.translation;
+            body.linear_velocity = linear + angular.cross(arm);
+            body.angular_velocity = angular;
+        }
         body_of[i] = Some(world.add_body(body.with_pose(pose.translation, pose.rotation)));
     }
     let first_constraint = world.constraints.len();

@@ -2,16 +2,13 @@
 //! ragdolls.
 
 use super::locate::Seg;
-use super::{
-    BodyDef, CharacterDef, JointDef, KindDef, RagdollDef, Scene, SceneDef, SceneError, ShapeKind,
-};
+use super::{BodyDef, JointDef, KindDef, RagdollDef, Scene, SceneDef, SceneError, ShapeKind};
 use crate::body::{Body, BodyId, BodyKind};
 use crate::constraint::{AngularLimit, BallSocket, Constraint, JointFlavour, Rod};
 use crate::lab::Lab;
 use crate::math::{quat_from_degrees, Iso, Vec3};
-use crate::ragdoll::character::{build_character, CharacterSpec};
+use crate::ragdoll::character::build_character;
 use crate::ragdoll::{HumanoidSpec, Ragdoll, RodParams};
-use crate::rig::{Animation, Rig};
 use crate::shape::Axis;
 use crate::shape::Shape;
 use crate::world::{Settings, World};
@@ -36,7 +33,7 @@ impl Scene {
                 .map_err(|m| self.error_at(&path, m))?;
         }
         for (i, c) in d.character.iter().enumerate() {
-            let group = self.build_character(i, c)?;
+            let group = self.character_spec(i, c)?;
             let built = build_character(&mut lab.world, &group.0, &group.1);
             let path = [
                 Seg::Key("character".into()),
@@ -93,88 +90,6 @@ impl Scene {
             lab.ragdolls.push(group);
         }
         Ok(lab)
-    }
-}
-
-impl Scene {
-    /// The rig of `[[character]]` `i` and what to build of it: its clip's pose (with the
-    /// scene's extra joint rotations), placed; files are read relative to the scene file.
-    fn build_character(
-        &self,
-        i: usize,
-        c: &CharacterDef,
-    ) -> Result<(Rig, CharacterSpec), SceneError> {
-        let at = |field: &str| {
-            [
-                Seg::Key("character".into()),
-                Seg::Index(i),
-                Seg::Key(field.into()),
-            ]
-        };
-        let dir = self.path.parent().unwrap_or(std::path::Path::new("."));
-        let rig = Rig::load(dir.join(&c.rig)).map_err(|m| self.error_at(&at("rig"), m))?;
-        let mut locals = match &c.clip {
-            Some(clip) => {
-                let clip =
-                    Animation::load(dir.join(clip)).map_err(|m| self.error_at(&at("clip"), m))?;
-                rig.local_from_world(&rig.pose(&clip, c.time))
-            }
-            None => rig.bind_locals(),
-        };
-        // parents first, each turn about the world's axes at its joint
-        for part in 0..rig.parts.len() {
-            let joint = &rig.parts[part].joint_name;
-            let Some(degrees) = c.pose.get(joint) else {
-                continue;
-            };
-            let parent = match rig.parts[part].parent {
-                Some(p) => rig.world_from_local(&locals)[p].rotation,
-                None => crate::math::Quat::IDENTITY,
-            };
-            let turn = parent.inverse() * quat_from_degrees(*degrees) * parent;
-            locals[part].rotation = (turn * locals[part].rotation).normalize();
-        }
-        if let Some(joint) = c.pose.keys().find(|j| rig.part_index(j).is_none()) {
-            return Err(self.error_at(
-                &at("pose"),
-                format!("the rig {} has no part {joint:?}", rig.name),
-            ));
-        }
-        let place = Iso::new(Vec3::from(c.position), quat_from_degrees(c.rotation));
-        let pose = (rig.world_from_local(&locals).into_iter())
-            .map(|p| place * p)
-            .collect();
-        let region = [&c.region.from, &c.region.to];
-        if let Some(name) = region
-            .into_iter()
-            .chain(&c.fixed)
-            .find(|n| rig.part_index(n).is_none())
-        {
-            let field = if c.fixed.contains(name) {
-                "fixed"
-            } else {
-                "region"
-            };
-            return Err(self.error_at(
-                &at(field),
-                format!("the rig {} has no part {name:?}", rig.name),
-            ));
-        }
-        let spec = CharacterSpec {
-            name: c.name.clone(),
-            pose,
-            spine: c.spine,
-            region: (c.region.from.clone(), c.region.to.clone()),
-            fixed: c.fixed.clone(),
-            joint_flavour: c.joint_flavour.unwrap_or(self.def.joint_flavour),
-            rod: RodParams {
-                alpha_bend: c.alpha_b,
-                alpha_twist: c.alpha_t,
-                twist_mode: c.twist,
-                ..RodParams::default()
-            },
-        };
-        Ok((rig, spec))
     }
 }
 

@@ -16,6 +16,7 @@
 
 pub mod bounds;
 mod build;
+mod character;
 mod check;
 mod check_items;
 mod def;
@@ -26,6 +27,7 @@ mod overrides;
 mod variant;
 
 pub use build::LOOSE_GROUP;
+pub use character::HANDOVER_SPAN;
 pub use def::*;
 pub use method::{settings_table, Method};
 pub use overrides::{Overrides, RodOverrides, SoftnessOverride};
