@@ -23,6 +23,7 @@ mod passive_bending;
 #[cfg(feature = "rapier")]
 mod peer;
 mod pendulum;
+mod product_text;
 mod ragdoll_drop;
 mod ragdoll_rain;
 mod recording;
