@@ -77,8 +77,9 @@ pub struct CharacterSpec {
     pub rod: RodParams,
 }
 
-/// The parts strictly between the region's ends, or why the region is not a parent chain.
-pub fn region_interior(rig: &Rig, from: &str, to: &str) -> Result<Vec<usize>, String> {
+/// The region's end parts and the parts strictly between them, or why the region is not a
+/// parent chain.
+pub fn region_parts(rig: &Rig, from: &str, to: &str) -> Result<(usize, usize, Vec<usize>), String> {
     let index = |name: &str| {
         rig.part_index(name)
             .ok_or_else(|| format!("the rig {} has no part {name:?}", rig.name))
@@ -89,7 +90,7 @@ pub fn region_interior(rig: &Rig, from: &str, to: &str) -> Result<Vec<usize>, St
     while let Some(i) = at {
         if i == from {
             interior.reverse();
-            return Ok(interior);
+            return Ok((from, to, interior));
         }
         interior.push(i);
         at = rig.parts[i].parent;
@@ -107,8 +108,7 @@ pub fn build_character(
     rig: &Rig,
     spec: &CharacterSpec,
 ) -> Result<Ragdoll, String> {
-    let (from, to) = (&spec.region.0, &spec.region.1);
-    let interior = region_interior(rig, from, to)?;
+    let (from, to, interior) = region_parts(rig, &spec.region.0, &spec.region.1)?;
     let removed = match spec.spine {
         CharacterSpine::Rig => Vec::new(),
         _ if interior.is_empty() => {
@@ -119,7 +119,6 @@ pub fn build_character(
         }
         _ => interior,
     };
-    let (from, to) = (rig.part_index(from).unwrap(), rig.part_index(to).unwrap());
     for name in &spec.fixed {
         match rig.part_index(name) {
             Some(i) if !removed.contains(&i) => {}

@@ -115,15 +115,7 @@ pub fn check_drop(drop: &DropDef) -> Result<(), Failure> {
 
 /// A ragdoll's numbers (`at(field)` is its field's path).
 pub fn check_ragdoll(r: &RagdollDef, at: impl Fn(&str) -> Vec<Seg>) -> Result<(), Failure> {
-    within(&r.position, MAX_COORDINATE, "coordinates (m)").map_err(|m| (at("position"), m))?;
-    within(&r.rotation, MAX_DEGREES, "angles (deg)").map_err(|m| (at("rotation"), m))?;
-    for (joint, rotation) in &r.pose {
-        within(rotation, MAX_DEGREES, "angles (deg)").map_err(|m| {
-            let mut path = at("pose");
-            path.push(k(joint));
-            (path, m)
-        })?;
-    }
+    check_placement(&r.position, &r.rotation, &r.pose, &at)?;
     for (part, force) in &r.forces {
         within(force, MAX_FORCE, "forces (N)").map_err(|m| {
             let mut path = at("forces");
@@ -134,25 +126,32 @@ pub fn check_ragdoll(r: &RagdollDef, at: impl Fn(&str) -> Vec<Seg>) -> Result<()
     Ok(())
 }
 
-/// A character's numbers: placement, extra joint turns, clip time, the rod's relaxations.
+/// A character's numbers: placement, extra joint turns, clip time.
 pub fn check_character(c: &CharacterDef, at: impl Fn(&str) -> Vec<Seg>) -> Result<(), Failure> {
-    within(&c.position, MAX_COORDINATE, "coordinates (m)").map_err(|m| (at("position"), m))?;
-    within(&c.rotation, MAX_DEGREES, "angles (deg)").map_err(|m| (at("rotation"), m))?;
-    for (joint, rotation) in &c.pose {
-        within(rotation, MAX_DEGREES, "angles (deg)").map_err(|m| {
-            let mut path = at("pose");
-            path.push(k(joint));
-            (path, m)
-        })?;
-    }
+    check_placement(&c.position, &c.rotation, &c.pose, &at)?;
     if !(0.0..=MAX_CLIP_TIME).contains(&c.time) {
         let message = format!("must be a time from 0 to {MAX_CLIP_TIME} s, got {}", c.time);
         return Err((at("time"), message));
     }
-    for (field, alpha) in [("alpha_b", c.alpha_b), ("alpha_t", c.alpha_t)] {
-        if !(0.0..=1.0).contains(&alpha) {
-            return Err((at(field), format!("must lie in [0, 1], got {alpha}")));
-        }
+    Ok(())
+}
+
+/// A placement (position, rotation vector in degrees) and extra joint turns (degrees), each
+/// within its bounds.
+fn check_placement(
+    position: &[f32; 3],
+    rotation: &[f32; 3],
+    pose: &std::collections::BTreeMap<String, [f32; 3]>,
+    at: &impl Fn(&str) -> Vec<Seg>,
+) -> Result<(), Failure> {
+    within(position, MAX_COORDINATE, "coordinates (m)").map_err(|m| (at("position"), m))?;
+    within(rotation, MAX_DEGREES, "angles (deg)").map_err(|m| (at("rotation"), m))?;
+    for (joint, turn) in pose {
+        within(turn, MAX_DEGREES, "angles (deg)").map_err(|m| {
+            let mut path = at("pose");
+            path.push(k(joint));
+            (path, m)
+        })?;
     }
     Ok(())
 }

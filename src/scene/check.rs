@@ -3,7 +3,8 @@
 
 use super::bounds::{self, Failure};
 use super::check_items::{
-    check_body, check_joint, check_kinematics, check_name, check_ragdoll, check_rod, Names,
+    check_body, check_joint, check_kinematics, check_name, check_ragdoll, check_relaxation,
+    check_rod, Names,
 };
 use super::locate::Seg;
 use super::{variant, BodyDef, KindDef, Scene, SceneDef, ShapeKind, TileDef};
@@ -156,6 +157,9 @@ impl Scene {
             check_name(&c.name, &names).map_err(|m| (at("character", i, "name"), m))?;
             names.push(&c.name);
             bounds::check_character(c, |f| at("character", i, f))?;
+            for (field, alpha) in [("alpha_b", c.alpha_b), ("alpha_t", c.alpha_t)] {
+                check_relaxation(Some(alpha)).map_err(|m| (at("character", i, field), m))?;
+            }
         }
         let mut body_names = Names::default();
         for (i, b) in d.body.iter().enumerate() {

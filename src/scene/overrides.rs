@@ -21,7 +21,7 @@ macro_rules! overrides_struct {
         /// (`rodlab settings`), `joint_flavour` and `self_contacts`. The fields marked
         /// "command line only" are not read from a scene file, so a variant that sets one is
         /// refused as an unknown field, at its line.
-        #[derive(Clone, Debug, Default, Deserialize)]
+        #[derive(Clone, Debug, Default, PartialEq, Deserialize)]
         #[serde(deny_unknown_fields)]
         pub struct Overrides {
             $( $(#[$fmeta])* pub $field: $fty, )*
@@ -72,7 +72,7 @@ crate::solver::method_settings!(overrides_struct! {
 });
 
 /// The command line's settings of every rod and rod spine.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct RodOverrides {
     /// Bending: alpha_b (eq. 11), or a stiffness (N m/rad) and the damping of the bend rate.
     pub bend: SoftnessOverride,
@@ -86,7 +86,7 @@ pub struct RodOverrides {
 
 /// One rod part's softness as the command line gives it: an alpha given replaces the file's
 /// stiffness and damping, a stiffness given replaces its alpha, a damping given its damping.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SoftnessOverride {
     /// Relaxation in [0, 1] per iteration (the paper's alpha).
     pub alpha: Option<f32>,

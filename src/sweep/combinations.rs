@@ -92,7 +92,7 @@ pub fn combinations(def: &SceneDef, config: &SweepConfig) -> Vec<Overrides> {
                             let substeps = o.substeps.unwrap_or(own.substeps);
                             o.iterations = o.iterations.map(|n| (n / substeps).max(1));
                         }
-                        runs.dedup_by(|a, b| format!("{a:?}") == format!("{b:?}"));
+                        runs.dedup();
                     }
                     // one substep detects once a frame either way: the same method twice
                     let frame_listed = lists.contact_detection.contains(&ContactDetection::Frame);

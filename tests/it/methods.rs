@@ -169,13 +169,14 @@ fn every_declared_setting_is_a_scene_key_and_a_variant_key_with_its_bounds() {
     let mut def: rodlab::scene::SceneDef = toml::from_str("").unwrap();
     Method::Tight.overrides().apply(&mut def);
     def.write_method_settings(&mut tight);
-    let quoted = |name: &str, text: String| match name {
-        "solver" | "contact_detection" => format!("\"{text}\""),
-        _ => text,
+    // a choice is a TOML string; numbers (inf too) and switches are bare
+    let quoted = |text: String| match text.parse::<f64>().is_ok() || text.parse::<bool>().is_ok() {
+        true => text,
+        false => format!("\"{text}\""),
     };
     for ((name, text), declared) in tight.method_texts().into_iter().zip(METHOD_SETTINGS) {
         assert_eq!(name, declared.name);
-        let key = format!("{name} = {}", quoted(name, text.clone()));
+        let key = format!("{name} = {}", quoted(text.clone()));
         let scene = Scene::parse(
             "s.toml",
             &format!("{key}\n[[variant]]\nname = \"v\"\n{key}\n"),
