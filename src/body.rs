@@ -78,8 +78,10 @@ pub struct Body {
     /// How long (s) the body's sleep test points have stayed within their spheres.
     pub(crate) still_for: f32,
     /// The sleep test's bounding spheres (centre, radius) of where its three test points have
-    /// been since `still_for` was last reset ([`crate::sleep`]).
+    /// been in the current window ([`crate::sleep`]).
     pub(crate) sleep_spheres: [(Vec3, f32); 3],
+    /// How long (s) the current window of the sleep test has run.
+    pub(crate) sleep_window: f32,
     /// The island it fell asleep with (a body index, the island's union-find root).
     pub(crate) sleep_island: u32,
     /// Name, used in error messages and reports.
@@ -113,6 +115,7 @@ impl Body {
             asleep: false,
             still_for: 0.0,
             sleep_spheres: [(Vec3::ZERO, 0.0); 3],
+            sleep_window: 0.0,
             sleep_island: 0,
         };
         body.set_pose(Vec3::ZERO, Quat::IDENTITY);

@@ -125,7 +125,7 @@ const CASES: &[Case] = &[
         spine: Some(SpineKind::Chain3),
         solver: SolverKind::Simd,
         frames: 300,
-        hash: 0x1e5c_f9a8_fcc3_ab87,
+        hash: 0x5bcf_dfd8_d2f5_5798,
     },
     Case {
         scene: "ragdoll_drop",
@@ -133,7 +133,7 @@ const CASES: &[Case] = &[
         spine: Some(SpineKind::Rod),
         solver: SolverKind::Scalar,
         frames: 300,
-        hash: 0x0dd5_79b5_916e_20c8,
+        hash: 0x403d_9b6a_7e03_b7a8,
     },
     Case {
         scene: "ragdoll_drop",

@@ -52,9 +52,9 @@ impl Softness {
 ///
 /// `max_ratio` caps `e^(k dh)`: at 20 substeps of one iteration, uncapped ratios (e^4 for a
 /// limb 40 cm under a chest) had the sweeps pump a few piles until a limb exploded, and deep
-/// overlap came with them; capped at e, 4 of 256 drop landings passed 1 cm where 12 did (stop
-/// 46's `redetect_sweeps`, cheap joints and three sweeps; docs/solver.md, The box's nearest
-/// point, and stacking's ratio capped).
+/// overlap came with them; capped at e, 4 of 256 drop landings passed 1 cm where 12 did (20
+/// substeps of one iteration with contacts found every substep, cheap joints and three sweeps;
+/// docs/landings.md, The box's nearest point, and stacking's ratio capped).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Stacking {
     /// Unit vector against gravity (zero without gravity: no scaling).

@@ -6,10 +6,11 @@
 //! | method | what it is for |
 //! |---|---|
 //! | `paper` | the paper's method (§4): one step of 20 sequential iterations, the cheap joint, hard contacts; the reference line on every chart |
-//! | `game` | what a game ships: piles come to rest and sleep, stacks stand, overlap is pushed out gently (4 substeps of 4 iterations, soft and warm-started contacts, joint damping and friction) |
+//! | `game` | what a game ships: piles come to rest and sleep, stacks stand, overlap is pushed out gently (4 substeps of 4 iterations, soft and warm-started contacts, joint damping and friction, sleeping) |
 //! | `tight` | low error for the paper's budget of 20 solves a frame (20 substeps of one iteration, contacts found every substep and swept last, stacking, overlap pushed out at most 5 m/s) |
 //!
-//! What each choice buys is measured in docs/solver.md; `rodlab methods` prints the bundles.
+//! What each choice buys is measured in docs/contacts.md, docs/landings.md and docs/rest.md;
+//! `rodlab methods` prints the bundles.
 
 use serde::Deserialize;
 
@@ -123,13 +124,15 @@ joint_friction = 0.0
 sleep = false
 "#;
 
-/// A game engine's settings. Over the drop's layouts 1-128 x both spines, 253 of 256 piles are
-/// at rest after 10 s (docs/solver.md, The drop at rest):
+/// A game engine's settings. Over the drop's layouts 1-128 x both spines, all 256 piles are
+/// at rest after 10 s (docs/rest.md, The drop at rest):
 /// - 4 substeps of 4 iterations, SIMD, exact joints (hinges as one 2x2 block);
-/// - contacts warm-started at a quarter of their last impulse and soft at 60 Hz (a quarter of
-///   the substep rate, Box2D's cap; 30 Hz sinks 2.9 mm at rest);
-/// - overlap pushed out at no more than 5 m/s (Box2D caps it at 3, Unity at 10): a limb trapped
-///   in its own ragdoll's chest otherwise pumps the push-out into the ragdoll;
+/// - contacts warm-started with their whole last impulse and soft at 90 Hz: a soft contact
+///   sags `g / omega^2` per unit of the load it carries over its own pair's weight, 6.9 mm at
+///   the top of a ten-box stack at 60 Hz and 3.1 mm at 90 Hz; warm-started with a quarter of
+///   the impulse the stack also leans 1.3 cm in its first second, with all of it 1 mm;
+/// - overlap pushed out at no more than 3 m/s (Box2D's cap; Unity's is 10): a limb trapped in
+///   its own ragdoll's chest otherwise pumps the push-out into the ragdoll;
 /// - a joint dashpot (0.2 N m s/rad) and Coulomb friction (1 N m; the Horizon Zero Dawn ragdoll
 ///   ships 2.5 and 5), so a limb hanging off a pile stops within a swing or two;
 /// - sleeping.
@@ -138,10 +141,10 @@ solver = "simd"
 substeps = 4
 iterations = 4
 joint_flavour = "exact"
-contact_push_speed = 5.0
+contact_push_speed = 3.0
 contact_extra_sweeps = 0
-contact_warm_start = 0.25
-contact_hertz = 60.0
+contact_warm_start = 1.0
+contact_hertz = 90.0
 contact_damping_ratio = 1.0
 contact_stacking = 0.0
 contact_stacking_max_ratio = inf
@@ -153,7 +156,7 @@ sleep = true
 
 /// Low error for the paper's 20 solves a frame. Over the drop's landings (layouts 1-128 x both
 /// spines, 150 frames) the deepest overlap found afresh passes 1 cm on 5 of 256 and none
-/// explodes, at 1.5x the paper's step time (docs/solver.md, Landings that hold):
+/// explodes, at 1.5x the paper's step time (docs/landings.md, Landings that hold):
 /// - 20 substeps of one iteration (small steps buy more accuracy per solve than iterations);
 /// - contacts found afresh every substep, so points follow limbs that slide over each other,
 ///   and six sweeps of the contacts alone after each substep's iteration;

@@ -31,7 +31,7 @@ impl std::fmt::Display for SolverKind {
 /// that slide and roll over each other at 2-5 m/s within a frame carry those points off the
 /// features that really touch, so a detection on the frame's final poses finds overlaps the
 /// points no longer see (the drop at 4 substeps of 5 iterations over four layouts: 4.7-7.5 cm
-/// found afresh, against 2.5-4.2 cm when each substep detects; `docs/solver.md`). It costs N
+/// found afresh, against 2.5-4.2 cm when each substep detects; `docs/landings.md`). It costs N
 /// detections a frame instead of one.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]

@@ -26,7 +26,7 @@ fn single_fields_win_over_their_method() {
     let scene = boxes_scene("game", "iterations = 8\n[[variant]]\nmethod = \"tight\"\n[[variant]]\nname = \"coarse\"\nmethod = \"game\"\nsubsteps = 2\n", &[[0.0, 0.25, 0.0]]);
     let d = &scene.def;
     assert_eq!((d.substeps, d.iterations), (4, 8), "the file's iterations");
-    assert!(d.sleep && d.joint_friction == 1.0 && d.contact_hertz == 60.0);
+    assert!(d.sleep && d.joint_friction == 1.0 && d.contact_hertz == 90.0);
     let names: Vec<&str> = scene.variant_names().collect();
     assert_eq!(
         names,
@@ -120,12 +120,12 @@ fn deep_overlaps() -> Vec<[f32; 3]> {
 /// Where each method holds and fails on a user's boxes, 10 s each (the farthest a box ends
 /// from its start; the fastest a box moves):
 /// - a ten-wide pyramid (55 boxes): the paper's method creeps by 19 cm; game holds it within
-///   5 mm (3.2 mm, asleep) and tight within 2 cm (1.9 cm);
-/// - a ten-box stack: the paper's leans 10 cm; game settles within 2 cm in its first second and
-///   sleeps (1.6 mm of it the soft contacts' sag); tight within 2 mm;
+///   5 mm (1.2 mm, asleep) and tight within 2 cm (1.9 cm);
+/// - a ten-box stack: the paper's leans 10 cm; game stands within 5 mm (3.2 mm, nearly all of
+///   it the soft contacts' sag) and sleeps; tight within 2 mm;
 /// - boxes started deep inside each other: the paper's method throws them apart at over 5 m/s
-///   (8.2 m/s); game and tight push them out at no more than their 5 m/s cap, and no box moves
-///   faster than that (3.5 and 4.4 m/s; tight without the cap threw them at 90-200 m/s).
+///   (8.2 m/s); game pushes them out at no more than its 3 m/s cap (2.8 m/s) and tight at no
+///   more than its 5 m/s (4.4 m/s; tight without the cap threw them at 90-200 m/s).
 #[test]
 fn the_game_method_holds_stacks_and_separates_overlap_gently() {
     let run = |method: &str, centres: &[[f32; 3]]| {
@@ -143,7 +143,7 @@ fn the_game_method_holds_stacks_and_separates_overlap_gently() {
         "stack, farthest from the start: paper {paper:.4} m, game {game:.4} m, tight {tight:.4} m"
     );
     assert!(
-        paper > 0.05 && game < 0.02 && tight < 2e-3,
+        paper > 0.05 && game < 5e-3 && tight < 2e-3,
         "stack: paper {paper} m, game {game} m, tight {tight} m"
     );
     let overlaps = deep_overlaps();
@@ -152,7 +152,7 @@ fn the_game_method_holds_stacks_and_separates_overlap_gently() {
         "overlap, fastest box: paper {paper:.2} m/s, game {game:.2} m/s, tight {tight:.2} m/s"
     );
     assert!(
-        paper > 5.0 && game <= 5.0 && tight <= 5.0,
+        paper > 5.0 && game <= 3.0 && tight <= 5.0,
         "overlap: paper {paper} m/s, game {game} m/s, tight {tight} m/s"
     );
 }
@@ -234,3 +234,4 @@ fn the_scene_format_docs_hold_the_declared_settings_table() {
         "regenerate the table with `rodlab settings`"
     );
 }
+

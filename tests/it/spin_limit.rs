@@ -52,7 +52,7 @@ fn the_limit_scales_a_faster_spin_down_and_leaves_a_slower_one() {
 
 /// The drop at 4 substeps of 1 iteration with exact joints, 30 Hz soft contacts and stacking
 /// (the sweep's rod line that spins limbs up toward the 500 rad/s explosion bound,
-/// docs/solver.md): with a 100 rad/s limit the landing runs its 150 frames, and ends in its
+/// docs/landings.md): with a 100 rad/s limit the landing runs its 150 frames, and ends in its
 /// committed state (one pile is a chaotic sample: the hash pins it).
 #[test]
 fn the_limit_carries_the_drops_known_spin_up_through() {

@@ -141,7 +141,7 @@ fn a_ten_wide_box_pyramid_stands_within_five_millimetres() {
 /// the stack falls asleep after its first 0.5 s, while it is still within a few millimetres.
 /// Awake it does not hold: the solver's corner order tilts it a little each step, and over
 /// 10 s the top drifts 17-150 mm at every method measured (1x20 to 8x4, warm 0 to 0.5;
-/// docs/solver.md, Sleeping). 4 substeps of 10 iterations hold it at 4.1 mm asleep.
+/// docs/contacts.md, Warm starting). 4 substeps of 10 iterations hold it at 4.1 mm asleep.
 #[test]
 fn a_ten_box_stack_that_may_sleep_stands_within_five_millimetres() {
     let mut world = World::new(Settings {
