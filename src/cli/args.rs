@@ -13,7 +13,7 @@ use crate::sim::Overrides;
 use super::parse::{
     non_negative, parse_choice, positive_stiffness, seed_list, unit_interval, SeedList,
 };
-use super::settings_args::{MethodFlags, MethodListFlags};
+use super::settings_args::{set_method_setting, MethodFlags, MethodListFlags};
 use super::tune;
 
 /// The `rodlab` command line.
@@ -37,6 +37,9 @@ pub struct Cli {
 pub enum Command {
     /// The main job: every scene in a folder -> <out>/<scene>.rrd, plus a residual summary
     /// (a scene with `ci_frames` runs that many frames, unless --frames).
+    #[command(
+        after_help = "Example: rodlab all --out recordings   (the main job, as `cargo run --release` runs it)"
+    )]
     All {
         /// Folder of scene files (*.toml) to run
         #[arg(long, default_value = "scenes")]
@@ -49,6 +52,12 @@ pub enum Command {
         overrides: OverrideArgs,
     },
     /// Runs one scene and records it.
+    #[command(
+        after_help = "Example: rodlab run scenes/ragdoll_drop.toml --method game --spine rod --set contact_hertz=60 --save drop.rrd",
+        mut_arg("server_memory_limit", |a| a.hide(true)),
+        mut_arg("newest_first", |a| a.hide(true)),
+        mut_arg("bind", |a| a.hide(true))
+    )]
     Run {
         /// Scene file (TOML) to run
         scene: PathBuf,
@@ -74,13 +83,20 @@ pub enum Command {
     /// Speed against accuracy: runs SCENE headless for every spine, joint flavour, time step
     /// and iteration count -> <out>/<scene>_sweep.csv, .svg (chart) and .rrd, and with contacts
     /// <out>/<scene>_sweep_overlap.svg (the deepest overlap against time).
+    #[command(
+        after_help = "Example: rodlab sweep scenes/passive_bending.toml --spines chain3,rod --iterations 1,2,4,8,16,32"
+    )]
     Sweep(SweepArgs),
     /// Tuning by eye: every combination of bend and twist settings (and iteration counts) as
     /// one copy of the scene's rod-spine ragdoll on a labelled grid -> <out>/tune.rrd, .csv,
     /// .svg, .png; or, with --match-psi / --match, the settings that settle at a bend.
+    #[command(
+        after_help = "Example: rodlab tune scenes/passive_bending.toml --alpha-b 0,0.005,0.02 --alpha-t 0,0.5"
+    )]
     Tune(tune::TuneArgs),
     /// The stability suite: every case for every method, a verdict each -> <out>/stress.md,
     /// <out>/stress.csv, and a recording of every run that is not stable (<out>/stress/).
+    #[command(after_help = "Example: rodlab stress --out recordings")]
     Stress {
         /// Folder for stress.md, stress.csv and the recordings of runs that are not stable
         #[arg(long, default_value = "recordings")]
@@ -89,23 +105,33 @@ pub enum Command {
     /// Robustness over layouts: runs a scene with a `[drop]` block headless once per layout
     /// seed and spine -> <out>/<scene>_layouts.md and .csv (<scene>_<variant>_layouts with
     /// --variant): whether each run ended at rest, its deepest overlap, or where it stopped.
+    #[command(
+        after_help = "Example: rodlab layouts scenes/ragdoll_drop.toml --variant game --seeds 1-128"
+    )]
     Layouts(LayoutsArgs),
     /// Validates scene files without running them.
+    #[command(after_help = "Example: rodlab check scenes/*.toml")]
     Check {
         /// Scene files (TOML) to check
         #[arg(required = true)]
         scenes: Vec<PathBuf>,
     },
     /// Lists the files the main job writes, one per line (what CI checks and archives).
+    #[command(after_help = "Example: rodlab outputs")]
     Outputs,
     /// The named methods (paper, game, tight): each one's settings, as a scene file writes them.
+    #[command(after_help = "Example: rodlab methods")]
     Methods,
     /// The method settings: each one's key (a scene file's, a `[[variant]]`'s; the flag is the
     /// key with dashes), unit, values, value in each named method and what it does.
+    #[command(after_help = "Example: rodlab settings")]
     Settings,
     /// A sweep's shards (`sweep --shard I/N`) back into the whole sweep: every shard's
     /// <name>_sweep_shardIofN.csv -> <out>/<name>_sweep.csv, .svg, .png and .rrd, in the order an
     /// unsharded run writes them.
+    #[command(
+        after_help = "Example: rodlab merge recordings/passive_bending_sweep_shard*of3.csv --out recordings"
+    )]
     Merge {
         /// The shards' CSV files, all N of one sweep, in any order
         #[arg(required = true)]
@@ -210,10 +236,10 @@ pub struct OverrideArgs {
     #[arg(long, value_parser = parse_choice::<SpineKind>)]
     pub spine: Option<SpineKind>,
     /// Ball-and-socket solver: cheap or exact.
-    #[arg(long, value_parser = parse_choice::<JointFlavour>)]
+    #[arg(long, hide = true, value_parser = parse_choice::<JointFlavour>)]
     pub joint: Option<JointFlavour>,
     /// Which pairs of each ragdoll's own bodies may collide: all, apart_at_rest or none.
-    #[arg(long, value_parser = parse_choice::<SelfContacts>)]
+    #[arg(long, hide = true, value_parser = parse_choice::<SelfContacts>)]
     pub self_contacts: Option<SelfContacts>,
     /// Rod bending relaxation alpha_b in [0, 1].
     #[arg(long, value_parser = unit_interval)]
@@ -223,23 +249,23 @@ pub struct OverrideArgs {
     pub alpha_t: Option<f32>,
     /// Rod bending stiffness (N m/rad), solved in compliance form instead of alpha_b: the
     /// same stiffness at any iteration count, time step or substep count.
-    #[arg(long, value_parser = positive_stiffness, conflicts_with = "alpha_b")]
+    #[arg(long, hide = true, value_parser = positive_stiffness, conflicts_with = "alpha_b")]
     pub bend_stiffness: Option<f32>,
     /// Damping of the rod's bend rate (N m s/rad), with a bending stiffness.
-    #[arg(long, value_parser = non_negative)]
+    #[arg(long, hide = true, value_parser = non_negative)]
     pub bend_damping: Option<f32>,
     /// Rod twisting stiffness (N m/rad), instead of alpha_t.
-    #[arg(long, value_parser = positive_stiffness, conflicts_with = "alpha_t")]
+    #[arg(long, hide = true, value_parser = positive_stiffness, conflicts_with = "alpha_t")]
     pub twist_stiffness: Option<f32>,
     /// Damping of the rod's twist rate (N m s/rad), with a twisting stiffness.
-    #[arg(long, value_parser = non_negative)]
+    #[arg(long, hide = true, value_parser = non_negative)]
     pub twist_damping: Option<f32>,
     /// Rod twist measure: exact or paper.
-    #[arg(long, value_parser = parse_choice::<TwistMode>)]
+    #[arg(long, hide = true, value_parser = parse_choice::<TwistMode>)]
     pub twist: Option<TwistMode>,
     /// Rod parts: sequential (bend, twist, curve, length one after the other, the default) or
     /// block (bend and twist as one 2x2 block, then curve and length from the same frames).
-    #[arg(long, value_parser = parse_choice::<BendTwist>)]
+    #[arg(long, hide = true, value_parser = parse_choice::<BendTwist>)]
     pub bend_twist: Option<BendTwist>,
     /// Record every N-th frame (frames 0, N, 2N, ...): a smaller file of a long run.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
@@ -248,9 +274,56 @@ pub struct OverrideArgs {
     /// sample of the same drop.
     #[arg(long)]
     pub seed: Option<u64>,
+    /// Any other setting, as a scene file writes it: a method setting (`rodlab settings` lists
+    /// them), joint_flavour, self_contacts, or every rod's bend_stiffness, bend_damping,
+    /// twist_stiffness, twist_damping, twist or bend_twist; checked against the scene file's
+    /// bounds; repeatable, the last one wins (e.g. --set contact_hertz=90 --set solver=simd).
+    #[arg(long = "set", value_name = "KEY=VALUE", value_parser = parse_set)]
+    pub set: Vec<(String, String)>,
     /// The method settings.
     #[command(flatten)]
     pub settings: MethodFlags,
+}
+
+/// One `--set KEY=VALUE`, checked as it will be applied.
+fn parse_set(s: &str) -> Result<(String, String), String> {
+    let (key, value) = (s.split_once('='))
+        .ok_or_else(|| format!("`{s}` is not KEY=VALUE (e.g. contact_hertz=90)"))?;
+    let (key, value) = (key.trim().to_string(), value.trim().to_string());
+    set_setting(&mut Overrides::default(), &key, &value)?;
+    Ok((key, value))
+}
+
+/// Writes the setting `key` of `overrides` from its text, checked against its bounds.
+fn set_setting(o: &mut Overrides, key: &str, text: &str) -> Result<(), String> {
+    if set_method_setting(o, key, text)? {
+        return Ok(());
+    }
+    let (bend, twist) = (&mut o.rod.bend, &mut o.rod.twist);
+    match key {
+        "method" => o.method = Some(parse_choice(text)?),
+        "joint_flavour" => o.joint_flavour = Some(parse_choice(text)?),
+        "self_contacts" => o.self_contacts = Some(parse_choice(text)?),
+        // an alpha and a stiffness replace each other: the last one given wins
+        "alpha_b" => (bend.alpha, bend.stiffness) = (Some(unit_interval(text)?), None),
+        "alpha_t" => (twist.alpha, twist.stiffness) = (Some(unit_interval(text)?), None),
+        "bend_stiffness" => (bend.alpha, bend.stiffness) = (None, Some(positive_stiffness(text)?)),
+        "twist_stiffness" => {
+            (twist.alpha, twist.stiffness) = (None, Some(positive_stiffness(text)?))
+        }
+        "bend_damping" => bend.damping = Some(non_negative(text)?),
+        "twist_damping" => twist.damping = Some(non_negative(text)?),
+        "twist" => o.rod.twist_measure = Some(parse_choice(text)?),
+        "bend_twist" => o.rod.bend_twist = Some(parse_choice(text)?),
+        _ => {
+            return Err(format!(
+                "unknown key `{key}`: a method setting (`rodlab settings`), method, \
+                 joint_flavour, self_contacts, alpha_b, alpha_t, bend_stiffness, bend_damping, \
+                 twist_stiffness, twist_damping, twist or bend_twist"
+            ))
+        }
+    }
+    Ok(())
 }
 
 impl From<&OverrideArgs> for Overrides {
@@ -281,6 +354,9 @@ impl From<&OverrideArgs> for Overrides {
             ..Default::default()
         };
         a.settings.write_into(&mut overrides);
+        for (key, value) in &a.set {
+            set_setting(&mut overrides, key, value).expect("checked when parsed");
+        }
         overrides
     }
 }

@@ -1,13 +1,18 @@
 //! The method settings as command-line flags, derived from their one declaration
 //! (`method_settings!` (`solver::settings`)): an optional flag each for `run`,
-//! `all` and `layouts`, and a comma-separated list each for `sweep`. A flag's value is checked
-//! against the setting's declared bounds, the same bounds as a scene file's.
+//! `all` and `layouts` (and a `--set key=value` each), and a comma-separated list each for
+//! `sweep`. A value is checked against the setting's declared bounds, the same bounds as a
+//! scene file's.
 
 use clap::Args;
 
 use crate::sim::Overrides;
 use crate::solver::SettingValue;
 use crate::sweep::SettingLists;
+
+/// The method settings `run --help` shows as flags of their own; the others stay flags but
+/// are listed through `--set` (`rodlab settings`), so the help fits on a screen.
+const SHOWN: [&str; 2] = ["iterations", "substeps"];
 
 /// Defines [`MethodFlags`] and [`MethodListFlags`].
 macro_rules! method_flags {
@@ -20,9 +25,27 @@ macro_rules! method_flags {
         pub struct MethodFlags {
             $(
                 $(#[doc = $doc])*
-                #[arg(long, value_parser = |s: &str| <$ty as SettingValue>::parse_text(s)?.checked(&$bounds, $unit))]
+                #[arg(long, hide = !SHOWN.contains(&stringify!($name)),
+                      value_parser = |s: &str| <$ty as SettingValue>::parse_text(s)?.checked(&$bounds, $unit))]
                 pub $name: Option<$ty>,
             )*
+        }
+
+        /// Sets the method setting `key` of `overrides` from its text, checked against the
+        /// setting's bounds (`--set key=value`); `Ok(false)` when `key` is no method setting.
+        pub fn set_method_setting(
+            overrides: &mut Overrides,
+            key: &str,
+            text: &str,
+        ) -> Result<bool, String> {
+            match key {
+                $( stringify!($name) => {
+                    let value = <$ty as SettingValue>::parse_text(text)?.checked(&$bounds, $unit)?;
+                    overrides.$name = Some(value);
+                    Ok(true)
+                } )*
+                _ => Ok(false),
+            }
         }
 
         impl MethodFlags {

@@ -6,6 +6,7 @@
 mod common;
 mod chain;
 mod character;
+mod cli_set;
 mod conservation;
 mod contact_gaps;
 mod contacts;

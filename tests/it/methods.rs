@@ -234,4 +234,3 @@ fn the_scene_format_docs_hold_the_declared_settings_table() {
         "regenerate the table with `rodlab settings`"
     );
 }
-
