@@ -188,6 +188,14 @@ impl RapierWorld {
     }
 }
 
+/// The Rapier build this binary carries, as its chart line names it.
+pub const BUILD: &str = match (cfg!(feature = "rapier-simd8"), cfg!(feature = "rapier-parallel")) {
+    (false, false) => "rapier",
+    (true, false) => "rapier simd8",
+    (false, true) => "rapier parallel",
+    (true, true) => "rapier simd8 parallel",
+};
+
 /// Runs `scene` (overrides already applied to `scene.def`; spine chain3 or single) in Rapier
 /// with `iterations` solver iterations, `repeats` times, measured like [`crate::sweep::run_one`]:
 /// `step_us` is the median wall time of the Rapier step alone after the same warm-up, pooled
@@ -209,7 +217,7 @@ pub fn run(scene: &Scene, iterations: u32, repeats: u32) -> anyhow::Result<Sweep
         spines.join("+")
     };
     let row = SweepRow::new(
-        "rapier".into(),
+        BUILD.into(),
         spine,
         "spherical".into(),
         crate::world::Settings {

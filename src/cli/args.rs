@@ -126,6 +126,20 @@ pub enum Command {
     /// key with dashes), unit, values, value in each named method and what it does.
     #[command(after_help = "Example: rodlab settings")]
     Settings,
+    /// The criterion benchmarks' last results (`cargo bench` first) as data ->
+    /// <out>/<machine>/criterion.csv: each benchmark's median time, its 95% interval and the time
+    /// per element, the machine named as the CPU reports it.
+    #[command(
+        after_help = "Example: rodlab benchmarks --out docs/benchmarks   (after `cargo bench`)"
+    )]
+    Benchmarks {
+        /// criterion's output folder
+        #[arg(long, default_value = "target/criterion")]
+        criterion: PathBuf,
+        /// Folder the machine's folder is written under
+        #[arg(long, default_value = "docs/benchmarks")]
+        out: PathBuf,
+    },
     /// A sweep's shards (`sweep --shard I/N`) back into the whole sweep: every shard's
     /// <name>_sweep_shardIofN.csv -> <out>/<name>_sweep.csv, .svg, .png and .rrd, in the order an
     /// unsharded run writes them.

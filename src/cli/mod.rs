@@ -59,6 +59,7 @@ macro_rules! note {
 }
 
 mod args;
+mod benchmarks;
 mod layouts;
 mod main_job;
 mod parse;
@@ -181,6 +182,11 @@ fn dispatch_command(cli: Cli, matches: &ArgMatches) -> anyhow::Result<()> {
             for method in crate::scene::Method::ALL {
                 report!("# method = \"{method}\"{}", method.settings_toml());
             }
+            Ok(())
+        }
+        Some(Command::Benchmarks { criterion, out }) => {
+            let path = benchmarks::write(&criterion, &out)?;
+            report!("-> {}", path.display());
             Ok(())
         }
         Some(Command::Settings) => {

@@ -85,8 +85,18 @@ fn help_is_short_and_shows_examples() {
         .count();
     assert!(options <= 20, "run --help lists {options} options");
     for sub in [
-        "all", "run", "sweep", "tune", "stress", "layouts", "check", "outputs", "methods",
-        "settings", "merge",
+        "all",
+        "run",
+        "sweep",
+        "tune",
+        "stress",
+        "layouts",
+        "check",
+        "outputs",
+        "methods",
+        "settings",
+        "merge",
+        "benchmarks",
     ] {
         let text = help(sub);
         assert!(
