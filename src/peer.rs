@@ -189,7 +189,10 @@ impl RapierWorld {
 }
 
 /// The Rapier build this binary carries, as its chart line names it.
-pub const BUILD: &str = match (cfg!(feature = "rapier-simd8"), cfg!(feature = "rapier-parallel")) {
+pub const BUILD: &str = match (
+    cfg!(feature = "rapier-simd8"),
+    cfg!(feature = "rapier-parallel"),
+) {
     (false, false) => "rapier",
     (true, false) => "rapier simd8",
     (false, true) => "rapier parallel",

@@ -91,20 +91,25 @@ pub fn machine_folder(machine: &str) -> String {
 
 /// The CSV of `rows`, measured on `machine`.
 pub fn csv(machine: &str, rows: &[Measured]) -> String {
-    let mut text = String::from(
-        "benchmark,median_ns,median_low_ns,median_high_ns,elements,median_ns_per_element,machine\n",
-    );
-    for r in rows {
+    let records = rows.iter().map(|r| {
         let (elements, per) = match r.elements {
             Some(n) if n > 0 => (n.to_string(), format!("{:.3}", r.median_ns / n as f64)),
             _ => (String::new(), String::new()),
         };
-        text += &format!(
-            "{},{:.1},{:.1},{:.1},{elements},{per},\"{machine}\"\n",
-            r.id, r.median_ns, r.median_low_ns, r.median_high_ns
-        );
-    }
-    text
+        vec![
+            r.id.clone(),
+            format!("{:.1}", r.median_ns),
+            format!("{:.1}", r.median_low_ns),
+            format!("{:.1}", r.median_high_ns),
+            elements,
+            per,
+            machine.to_string(),
+        ]
+    });
+    crate::csv_table::to_text(
+        "benchmark,median_ns,median_low_ns,median_high_ns,elements,median_ns_per_element,machine",
+        records,
+    )
 }
 
 /// Reads `criterion` and writes `<out>/<machine>/criterion.csv`; returns its path.
@@ -154,11 +159,9 @@ mod tests {
             elements: Some(64),
         };
         assert_eq!(rows, [expected]);
-        let text = csv("CPU X (2 cores)", &rows);
+        let text = csv("CPU X, 2 cores", &rows);
         assert!(
-            text.ends_with(
-                "solve/rod/scalar,6400.0,6390.5,6420.2,64,100.000,\"CPU X (2 cores)\"\n"
-            ),
+            text.ends_with("solve/rod/scalar,6400.0,6390.5,6420.2,64,100.000,\"CPU X, 2 cores\"\n"),
             "{text}"
         );
         assert_eq!(
