@@ -8,12 +8,9 @@
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
 use rodlab::body::{Body, BodyId, BodyKind};
-use rodlab::constraint::ball_socket_lanes::JointLanes;
-use rodlab::constraint::rod_lanes::RodLanes;
 use rodlab::constraint::{
     AngularLimit, BallSocket, BendTwist, JointFlavour, JointRow, Rod, RodRow,
 };
-use rodlab::contact::lanes::ContactLanes;
 use rodlab::contact::{ContactPoint, Contacts, Softness, Stacking};
 use rodlab::lanes::{F32x16, F32x4, F32x8, Lane, LaneWidth, LaneWork};
 use rodlab::math::{Quat, Vec3};
@@ -22,7 +19,8 @@ use rodlab::scene::Scene;
 use rodlab::shape::{Axis, Shape};
 use rodlab::sim::{self, NoObserver, Overrides};
 use rodlab::solver::body::{pair_mut, SharedBodies, SolverBody};
-use rodlab::solver::{Row, ScalarRows};
+use rodlab::solver::packed::LaneRows;
+use rodlab::solver::ScalarRows;
 use std::time::Instant;
 
 const COUNT: usize = 64;
@@ -159,62 +157,39 @@ const WIDTHS: [(&str, Width); 4] = [
     ("simd16", Width::W16),
 ];
 
-/// One kind's pack functions into 4, 8 and 16 lanes.
-type Packers<T, L4, L8, L16> = (fn(&[T]) -> L4, fn(&[T]) -> L8, fn(&[T]) -> L16);
-
 /// One kind's rows and, as the SIMD solver keeps them, packed into 4, 8 and 16 lanes.
 #[derive(Clone)]
-struct Packed<T, L4, L8, L16> {
+struct Packed<T: LaneRows> {
     bodies: Vec<SolverBody>,
     rows: Vec<T>,
-    w4: Vec<L4>,
-    w8: Vec<L8>,
-    w16: Vec<L16>,
+    w4: Vec<T::Lanes<F32x4>>,
+    w8: Vec<T::Lanes<F32x8>>,
+    w16: Vec<T::Lanes<F32x16>>,
 }
 
-impl<T: Clone, L4, L8, L16> Packed<T, L4, L8, L16> {
-    fn new(
-        (bodies, rows): (Vec<SolverBody>, Vec<T>),
-        pack4: fn(&[T]) -> L4,
-        pack8: fn(&[T]) -> L8,
-        pack16: fn(&[T]) -> L16,
-    ) -> Self {
-        let w4 = rows.chunks_exact(4).map(pack4).collect();
-        let w8 = rows.chunks_exact(8).map(pack8).collect();
-        let w16 = rows.chunks_exact(16).map(pack16).collect();
+impl<T: LaneRows + Clone> Packed<T> {
+    fn new((bodies, rows): (Vec<SolverBody>, Vec<T>)) -> Self {
         Packed {
+            w4: rows.chunks_exact(4).map(T::pack).collect(),
+            w8: rows.chunks_exact(8).map(T::pack).collect(),
+            w16: rows.chunks_exact(16).map(T::pack).collect(),
             bodies,
             rows,
-            w4,
-            w8,
-            w16,
         }
     }
 
     /// Packs the rows into the existing batches of the widest lanes this CPU runs again (no
     /// allocation in the timing).
-    fn repack(&mut self, pack: Packers<T, L4, L8, L16>)
-    where
-        T: Sync,
-        L4: Send,
-        L8: Send,
-        L16: Send,
-    {
+    fn repack(&mut self) {
         match LaneWidth::detect() {
-            LaneWidth::W4 => F32x4::dispatch(Repack(&mut self.w4, &self.rows, pack.0)),
-            LaneWidth::W8 => F32x8::dispatch(Repack(&mut self.w8, &self.rows, pack.1)),
-            LaneWidth::W16 => F32x16::dispatch(Repack(&mut self.w16, &self.rows, pack.2)),
+            LaneWidth::W4 => F32x4::dispatch(Repack::<T, F32x4>(&mut self.w4, &self.rows)),
+            LaneWidth::W8 => F32x8::dispatch(Repack::<T, F32x8>(&mut self.w8, &self.rows)),
+            LaneWidth::W16 => F32x16::dispatch(Repack::<T, F32x16>(&mut self.w16, &self.rows)),
         }
     }
 
     /// One solve of every row: scalar from the rows, or from the packed lanes.
-    fn solve(&mut self, width: Width)
-    where
-        T: Row,
-        L4: Lanes,
-        L8: Lanes,
-        L16: Lanes,
-    {
+    fn solve(&mut self, width: Width) {
         let shared = SharedBodies::new(&mut self.bodies);
         match width {
             Width::Scalar => {
@@ -223,9 +198,9 @@ impl<T: Clone, L4, L8, L16> Packed<T, L4, L8, L16> {
                 let width = LaneWidth::detect();
                 rodlab::with_lane_type!(width, L => L::dispatch(ScalarRows { rows, bodies: shared }))
             }
-            Width::W4 => F32x4::dispatch(SolveBatches(&mut self.w4, shared)),
-            Width::W8 => F32x8::dispatch(SolveBatches(&mut self.w8, shared)),
-            Width::W16 => F32x16::dispatch(SolveBatches(&mut self.w16, shared)),
+            Width::W4 => F32x4::dispatch(SolveBatches::<T, F32x4>(&mut self.w4, shared)),
+            Width::W8 => F32x8::dispatch(SolveBatches::<T, F32x8>(&mut self.w8, shared)),
+            Width::W16 => F32x16::dispatch(SolveBatches::<T, F32x16>(&mut self.w16, shared)),
         }
     }
 }
@@ -241,72 +216,40 @@ impl Width {
     }
 }
 
-/// A batch of packed lanes of any kind: one solve of its rows.
-trait Lanes {
-    fn solve(&mut self, bodies: SharedBodies);
-}
-
-impl<L: Lane> Lanes for JointLanes<L> {
-    #[inline(always)]
-    fn solve(&mut self, bodies: SharedBodies) {
-        JointLanes::solve(self, bodies)
-    }
-}
-
-impl<L: Lane> Lanes for RodLanes<L> {
-    #[inline(always)]
-    fn solve(&mut self, bodies: SharedBodies) {
-        RodLanes::solve(self, bodies)
-    }
-}
-
-impl<L: Lane> Lanes for ContactLanes<L> {
-    #[inline(always)]
-    fn solve(&mut self, bodies: SharedBodies) {
-        ContactLanes::solve(self, bodies)
-    }
-}
-
 /// One solve of every batch, in the function compiled for the lane type's instructions (as
 /// the solver runs its colours: `rodlab::lanes::Lane::dispatch`).
-struct SolveBatches<'a, B>(&'a mut [B], SharedBodies);
+struct SolveBatches<'a, T: LaneRows, L: Lane>(&'a mut [T::Lanes<L>], SharedBodies);
 
-impl<L: Lane, B: Lanes> LaneWork<L> for SolveBatches<'_, B> {
+impl<T: LaneRows, L: Lane> LaneWork<L> for SolveBatches<'_, T, L> {
     type Output = ();
     #[inline(always)]
     fn run(self) {
         // (a loop, not a closure: a closure's body would compile outside the function)
         for batch in self.0.iter_mut() {
-            batch.solve(self.1);
+            T::solve_lanes(batch, self.1);
         }
     }
 }
 
-/// Every batch packed again from its rows, as [`SolveBatches`] runs.
-struct Repack<'a, T, B>(&'a mut [B], &'a [T], fn(&[T]) -> B);
+/// Every batch packed again from its rows, as the solver packs, in the dispatched function.
+struct Repack<'a, T: LaneRows, L: Lane>(&'a mut [T::Lanes<L>], &'a [T]);
 
-impl<L: Lane, T, B> LaneWork<L> for Repack<'_, T, B> {
+impl<T: LaneRows, L: Lane> LaneWork<L> for Repack<'_, T, L> {
     type Output = ();
     #[inline(always)]
     fn run(self) {
-        let width = COUNT / self.0.len();
-        for (lanes, rows) in self.0.iter_mut().zip(self.1.chunks(width)) {
-            *lanes = (self.2)(rows);
+        for (lanes, rows) in self.0.iter_mut().zip(self.1.chunks(L::W)) {
+            *lanes = T::pack(rows);
         }
     }
 }
-
-type Joints = Packed<JointRow, JointLanes<F32x4>, JointLanes<F32x8>, JointLanes<F32x16>>;
-type Rods = Packed<RodRow, RodLanes<F32x4>, RodLanes<F32x8>, RodLanes<F32x16>>;
-type ContactPoints =
-    Packed<ContactPoint, ContactLanes<F32x4>, ContactLanes<F32x8>, ContactLanes<F32x16>>;
 
 /// One benchmarked batch: `COUNT` independent constraints of one kind and their bodies.
 #[derive(Clone)]
 enum Batch {
-    Joints(Joints),
-    Rods(Rods),
-    Contacts(ContactPoints),
+    Joints(Packed<JointRow>),
+    Rods(Packed<RodRow>),
+    Contacts(Packed<ContactPoint>),
 }
 
 /// The benchmarked kinds.
@@ -320,24 +263,11 @@ enum Case {
 impl Batch {
     fn new(case: Case) -> Self {
         match case {
-            Case::Joint(flavour, limits) => Batch::Joints(Packed::new(
-                dislocated_joints(flavour, limits),
-                JointLanes::pack,
-                JointLanes::pack,
-                JointLanes::pack,
-            )),
-            Case::Rod(bend_twist) => Batch::Rods(Packed::new(
-                perturbed_rods(bend_twist),
-                RodLanes::pack,
-                RodLanes::pack,
-                RodLanes::pack,
-            )),
-            Case::Contact => Batch::Contacts(Packed::new(
-                pressed_contacts(),
-                ContactLanes::pack,
-                ContactLanes::pack,
-                ContactLanes::pack,
-            )),
+            Case::Joint(flavour, limits) => {
+                Batch::Joints(Packed::new(dislocated_joints(flavour, limits)))
+            }
+            Case::Rod(bend_twist) => Batch::Rods(Packed::new(perturbed_rods(bend_twist))),
+            Case::Contact => Batch::Contacts(Packed::new(pressed_contacts())),
         }
     }
 
@@ -353,11 +283,9 @@ impl Batch {
     /// once a substep).
     fn pack(&mut self) {
         match self {
-            Batch::Joints(p) => p.repack((JointLanes::pack, JointLanes::pack, JointLanes::pack)),
-            Batch::Rods(p) => p.repack((RodLanes::pack, RodLanes::pack, RodLanes::pack)),
-            Batch::Contacts(p) => {
-                p.repack((ContactLanes::pack, ContactLanes::pack, ContactLanes::pack))
-            }
+            Batch::Joints(p) => p.repack(),
+            Batch::Rods(p) => p.repack(),
+            Batch::Contacts(p) => p.repack(),
         }
     }
 }

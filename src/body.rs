@@ -204,6 +204,7 @@ impl Body {
     }
 
     /// Recomputes `R I^-1 R^T` from the orientation.
+    #[inline(always)]
     pub(crate) fn update_world_inertia(&mut self) {
         let r = Mat3::from_quat(self.orientation);
         self.inverse_inertia_world =

@@ -181,7 +181,7 @@ pub fn rotation_vector(q: Quat) -> Vec3 {
 
 /// Rotates `q` by the small world-space rotation vector `theta` to first order, as
 /// position-based solvers do: `q += 0.5 [theta, 0] q`, then renormalise.
-#[inline]
+#[inline(always)]
 pub fn rotate_by_small(q: Quat, theta: Vec3) -> Quat {
     let dq = Quat::from_xyzw(theta.x, theta.y, theta.z, 0.0) * q;
     Quat::from_xyzw(

@@ -210,6 +210,10 @@ impl SharedBodies {
 
     /// Runs `f` on bodies `a` and `b`; an immovable one is passed as a copy.
     ///
+    /// A solver kernel passes its closure marked `#[inline(always)]`: a closure is a function
+    /// of its own, and one not inlined compiles for the baseline's instructions instead of
+    /// those of the lane type's dispatched function ([`crate::lanes::Lane::dispatch`]).
+    ///
     /// # Safety
     /// No other thread may access the movable ones among `a` and `b` meanwhile.
     #[inline(always)]

@@ -90,7 +90,7 @@ impl AngularLimit {
     /// two axes are aligned by the 2x2 block across a's axis
     /// ([`super::parts::relative_rotation_across`], the exact flavour's), else by one row along
     /// the error (the cheap flavour's, and every cone's: a cone past its edge is one row).
-    #[inline]
+    #[inline(always)]
     pub fn solve(
         &self,
         a: &mut SolverBody,

@@ -13,7 +13,7 @@ use crate::solver_body::SolverBody as Body;
 /// Scalar projection: removes `relaxation` times the distance `|d|` along `n = d / |d|`, where
 /// `d = anchor_b - anchor_a`. One row of the point constraint; the cross-coupling of the three
 /// rows through the bodies' rotation is ignored, so repeated application converges slowly.
-#[inline]
+#[inline(always)]
 pub fn point_along_error(a: &mut Body, b: &mut Body, ra: Vec3, rb: Vec3, d: Vec3, relaxation: f32) {
     let distance = d.length();
     if distance < 1e-9 {
@@ -31,7 +31,7 @@ pub fn point_along_error(a: &mut Body, b: &mut Body, ra: Vec3, rb: Vec3, d: Vec3
 
 /// Block solve: the impulse `P = K^-1 d` with the 3x3 inverse effective mass
 /// `K = K_a + K_b`, `K_i = 1/m_i E - [r_i] I_i^-1 [r_i]`. Removes the linearised error in one go.
-#[inline]
+#[inline(always)]
 pub fn point_block(a: &mut Body, b: &mut Body, ra: Vec3, rb: Vec3, d: Vec3, relaxation: f32) {
     if d.length_squared() < 1e-18 {
         return;
@@ -48,7 +48,7 @@ pub fn point_block(a: &mut Body, b: &mut Body, ra: Vec3, rb: Vec3, d: Vec3, rela
 
 /// Turns b by the world rotation vector `rotation_b` relative to a (a turns the opposite way),
 /// shared by the bodies' inertia about the rotation axis.
-#[inline]
+#[inline(always)]
 pub fn relative_rotation(a: &mut Body, b: &mut Body, rotation_b: Vec3) {
     let angle = rotation_b.length();
     if angle < 1e-9 {
@@ -72,7 +72,7 @@ pub fn relative_rotation(a: &mut Body, b: &mut Body, rotation_b: Vec3) {
 /// limb's axial inverse inertia is about 60 times its transverse one, so that row mostly spins
 /// the limb about its long axis, leaves a new error across the first, and the sweeps settle
 /// into a turn back and forth every substep (`tests/it/hinge.rs`).
-#[inline]
+#[inline(always)]
 pub fn relative_rotation_across(a: &mut Body, b: &mut Body, rotation_b: Vec3, axis: Vec3) {
     let u = crate::math::any_perpendicular(axis);
     let v = axis.cross(u);
@@ -83,7 +83,7 @@ pub fn relative_rotation_across(a: &mut Body, b: &mut Body, rotation_b: Vec3, ax
 /// at once: the 2x2 block `L = K^-1 e`, `K_ij = u_i . (I_a^-1 + I_b^-1) u_j`. Shared by a hinge's
 /// two rows ([`relative_rotation_across`]) and the rod's bend and twist
 /// ([`super::rod::BendTwist::Block`]).
-#[inline]
+#[inline(always)]
 pub fn relative_rotation_block(
     a: &mut Body,
     b: &mut Body,

@@ -57,7 +57,14 @@ pub fn is_default_modes(row: &RodRow) -> bool {
 pub fn solve_scalar(rows: &mut [RodRow], bodies: SharedBodies) {
     for row in rows {
         // SAFETY: the batch's rows share no movable body.
-        unsafe { bodies.with_pair(row.body_a, row.body_b, |a, b| row.solve(a, b)) };
+        unsafe {
+            bodies.with_pair(
+                row.body_a,
+                row.body_b,
+                #[inline(always)]
+                |a, b| row.solve(a, b),
+            )
+        };
     }
 }
 

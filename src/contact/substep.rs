@@ -33,6 +33,7 @@ impl SubstepStart {
 
 impl ContactPoint {
     /// [`super::Contacts::begin_substep`] for this point.
+    #[inline(always)]
     pub fn begin_substep(&mut self, bodies: &[Body], start: &SubstepStart) {
         let (a, b) = (&bodies[self.body_a.index()], &bodies[self.body_b.index()]);
         let separation = start.needs_separation().then(|| self.separation_at(a, b));
@@ -65,6 +66,7 @@ impl ContactPoint {
     /// # Safety
     /// No other thread may access the point's awake dynamic bodies meanwhile, nor write its
     /// others.
+    #[inline(always)]
     pub unsafe fn velocity_pass(&self, bodies: SharedSlice<Body>, threshold: f32) {
         if self.normal_impulse > 0.0 {
             self.velocity_row().apply(bodies, threshold);
@@ -87,6 +89,7 @@ impl ContactPoint {
     }
 
     /// [`super::Contacts::warm_start`] for this point, on its two bodies.
+    #[inline(always)]
     pub fn warm_start(
         &mut self,
         a: &mut SolverBody,
@@ -134,6 +137,7 @@ impl VelocityRow {
     /// # Safety
     /// No other thread may access the point's awake dynamic bodies meanwhile, nor write its
     /// others.
+    #[inline(always)]
     pub(crate) unsafe fn apply(&self, bodies: SharedSlice<Body>, threshold: f32) {
         let p = self;
         let (pa, pb) = (bodies.ptr(p.body_a), bodies.ptr(p.body_b));

@@ -31,6 +31,7 @@ pub(super) fn integrate_velocity(body: &mut Body, settings: &Settings, h: f32) {
 }
 
 /// Step 3.2: the preview pose of a body as the hot solver body. Fixed bodies stay put.
+#[inline(always)]
 pub(super) fn predict_pose(body: &Body, h: f32) -> SolverBody {
     if body.asleep {
         // immovable until its island wakes
@@ -65,6 +66,7 @@ pub(super) fn predict_pose(body: &Body, h: f32) -> SolverBody {
 }
 
 /// Step 3.4: velocities from the corrected preview, then the pose is committed.
+#[inline(always)]
 pub(super) fn commit_pose(body: &mut Body, hot: &SolverBody, h: f32) {
     if body.kind == BodyKind::Fixed || body.asleep {
         return;

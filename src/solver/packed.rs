@@ -117,7 +117,14 @@ impl<T: LaneRows, L: Lane> BatchWork<T, L> for Solve {
         let (a, b) = row.bodies();
         // SAFETY: rows of a colour share no movable body and run on disjoint chunks; the
         // overflow colour's rows run on this thread one at a time.
-        unsafe { self.0.with_pair(a, b, |a, b| row.solve(a, b)) };
+        unsafe {
+            self.0.with_pair(
+                a,
+                b,
+                #[inline(always)]
+                |a, b| row.solve(a, b),
+            )
+        };
     }
 }
 
@@ -180,7 +187,13 @@ impl<T: LaneRows, L: Lane, W: BatchWork<T, L>> LaneWork<L> for RunBatches<'_, T,
         for (lanes, rows) in self.batches.iter_mut().zip(self.rows.chunks_mut(L::W)) {
             match lanes {
                 Some(lanes) => self.work.batch(lanes),
-                None => rows.iter_mut().for_each(|row| self.work.row(row)),
+                None => {
+                    // (a loop, not a closure: a closure's body would compile outside the
+                    // dispatched function)
+                    for row in rows {
+                        self.work.row(row)
+                    }
+                }
             }
         }
     }

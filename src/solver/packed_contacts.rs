@@ -50,8 +50,12 @@ impl<L: Lane> BatchWork<ContactPoint, L> for WarmStart {
         // SAFETY: rows of a colour share no movable body; the overflow colour runs on this
         // thread
         unsafe {
-            self.bodies
-                .with_pair(a, b, |a, b| point.warm_start(a, b, fraction, impact_speed))
+            self.bodies.with_pair(
+                a,
+                b,
+                #[inline(always)]
+                |a, b| point.warm_start(a, b, fraction, impact_speed),
+            )
         }
     }
 }

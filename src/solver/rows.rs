@@ -69,7 +69,14 @@ impl<T: Row, L: Lane> LaneWork<L> for ScalarRows<'_, T> {
             let (a, b) = row.bodies();
             // SAFETY: rows of a colour share no movable body, and chunks of a colour are
             // disjoint; the overflow colour runs on one thread.
-            unsafe { self.bodies.with_pair(a, b, |a, b| row.solve(a, b)) };
+            unsafe {
+                self.bodies.with_pair(
+                    a,
+                    b,
+                    #[inline(always)]
+                    |a, b| row.solve(a, b),
+                )
+            };
         }
     }
 }

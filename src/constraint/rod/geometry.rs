@@ -63,6 +63,7 @@ pub fn curve_gradient(pa: Vec3, ta: Vec3, pb: Vec3, tb: Vec3) -> CurveGradient {
 }
 
 /// [`curve_error`] and [`curve_gradient`] together, sharing the geometry (§7).
+#[inline(always)]
 pub fn curve_projection(pa: Vec3, ta: Vec3, pb: Vec3, tb: Vec3) -> (f32, CurveGradient) {
     let offset = pb - pa;
     let distance = offset.length();

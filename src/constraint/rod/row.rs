@@ -134,6 +134,7 @@ impl RodRow {
 
     /// [`BendTwist::Block`] where both parts act (alphas above 0, psi above 1e-7): both from
     /// the frames `fa, fb` as one 2x2 block. Returns whether it did.
+    #[inline(always)]
     fn bend_and_twist_as_block(
         &self,
         a: &mut SolverBody,
@@ -160,6 +161,7 @@ impl RodRow {
     }
 
     /// Bend, then twist measured on the frames the bend left ([`BendTwist::Sequential`]).
+    #[inline(always)]
     fn bend_then_twist(&mut self, a: &mut SolverBody, b: &mut SolverBody, (ta, tb): (Vec3, Vec3)) {
         if self.bend_compliant.is_some() || self.alpha_bend > 0.0 {
             let psi = angle_between(ta, tb);
@@ -200,6 +202,7 @@ impl RodRow {
     /// The hard curve (eq. 6) and length (eq. 9): the length measured on the frames the curve
     /// left, or, with [`BendTwist::Block`] and the paper's [`LengthCorrection::Offset`], on the
     /// same frames as the curve (their block is diagonal: see [`BendTwist::Block`]).
+    #[inline(always)]
     fn curve_and_length(&mut self, a: &mut SolverBody, b: &mut SolverBody) {
         let (fa, fb) = (a.orientation * self.frame_a, b.orientation * self.frame_b);
         let (ta, tb) = (fa * Vec3::X, fb * Vec3::X);

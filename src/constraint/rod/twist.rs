@@ -5,6 +5,7 @@ use super::TwistMode;
 use crate::math::{angle_between, twist_angle, Quat, Vec3};
 
 /// tau by `mode` (see [`TwistMode`]).
+#[inline(always)]
 pub fn measure_twist(mode: TwistMode, frame_a: Quat, frame_b: Quat) -> f32 {
     let exact = twist_exact(frame_a, frame_b);
     match mode {
