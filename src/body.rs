@@ -158,6 +158,22 @@ impl Body {
         self.update_world_inertia();
     }
 
+    /// Makes the body dynamic, kinematic or fixed, its inverse mass and inertia with it (a
+    /// clip's kinematic bodies handed to physics, [`crate::playback`]).
+    pub fn set_kind(&mut self, kind: BodyKind) {
+        self.kind = kind;
+        let dynamic = kind == BodyKind::Dynamic;
+        self.inverse_mass = if dynamic { 1.0 / self.mass } else { 0.0 };
+        self.inverse_inertia_body = if dynamic {
+            self.inertia.recip()
+        } else {
+            Vec3::ZERO
+        };
+        self.asleep = false;
+        self.still_for = 0.0;
+        self.update_world_inertia();
+    }
+
     /// Whether the body is dynamic (asleep or awake).
     pub fn is_dynamic(&self) -> bool {
         self.kind == BodyKind::Dynamic

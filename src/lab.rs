@@ -5,6 +5,7 @@
 //! poses; metrics, observers, the recorder and the command line read them from here.
 
 use crate::body::BodyId;
+use crate::playback::Playback;
 use crate::ragdoll::{build_humanoid, HumanoidSpec, Ragdoll};
 use crate::world::{SimulationError, World};
 
@@ -15,6 +16,8 @@ pub struct Lab {
     pub world: World,
     /// Groups of the world's bodies and constraints, in build order.
     pub ragdolls: Vec<Ragdoll>,
+    /// Clips played on characters before their handover, posed before each step.
+    pub playbacks: Vec<Playback>,
 }
 
 impl Lab {
@@ -23,6 +26,7 @@ impl Lab {
         Lab {
             world,
             ragdolls: Vec::new(),
+            playbacks: Vec::new(),
         }
     }
 
@@ -43,6 +47,9 @@ impl Lab {
 
     /// Advances the world one frame.
     pub fn step(&mut self) -> Result<(), SimulationError> {
+        for playback in &mut self.playbacks {
+            playback.pose(&mut self.world);
+        }
         self.world.step()
     }
 }

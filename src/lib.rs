@@ -59,6 +59,7 @@ pub mod metrics;
 /// Rapier as a peer engine for the sweep (feature `rapier`).
 #[cfg(feature = "rapier")]
 pub mod peer;
+pub mod playback;
 pub mod ragdoll;
 #[cfg(feature = "record")]
 pub mod record;

@@ -20,7 +20,7 @@
 //! | column | meaning |
 //! |---|---|
 //! | `method` | the line's label, as above (` block`: the rod's bend and twist as one block) |
-//! | `spine` | chain3, rod or single |
+//! | `spine` | chain3, rod or single (a game character: rig, rod or single) |
 //! | `joint` | cheap or exact |
 //! | one column per method setting | its value in the run, named as in scene files (`solver`, `substeps`, ..., `dt`, `iterations`) |
 //! | `step_us` | median time per step (microseconds) |
@@ -58,7 +58,8 @@ pub struct SweepConfig {
     /// method); the lists that are empty keep each method's settings, and `iterations`
     /// counts solves per frame: a method at `s` substeps runs `max(1, n / s)` iterations each.
     pub methods: Vec<Method>,
-    /// Ragdoll spines.
+    /// Spines; empty: the scene's `spines` (with single beside a humanoid's), else chain3, rod
+    /// and single.
     pub spines: Vec<SpineKind>,
     /// Ball-and-socket joint flavours; empty keeps the scene's (or the method's).
     pub joints: Vec<JointFlavour>,
@@ -94,7 +95,7 @@ pub struct SweepRow {
     /// The line's label: `<spine>/<joint>` and its settings for rodlab's methods, the engine's
     /// name for a peer.
     pub method: String,
-    /// Spine: chain3, rod or single.
+    /// Spine: chain3, rod or single (a game character: rig, rod or single).
     pub spine: String,
     /// cheap or exact for rodlab; the peer's joint kind for a peer.
     pub joint: String,

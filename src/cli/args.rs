@@ -170,9 +170,8 @@ pub struct LayoutsArgs {
     /// Layout seeds: numbers and ranges, comma separated (e.g. 1-16,20).
     #[arg(long, default_value = "1-8", value_parser = seed_list)]
     pub seeds: SeedList,
-    /// Spines, comma separated.
-    #[arg(long, value_delimiter = ',', default_value = "chain3,rod",
-          value_parser = parse_choice::<SpineKind>)]
+    /// Spines, comma separated; default the scene's `spines`, else chain3,rod.
+    #[arg(long, value_delimiter = ',', value_parser = parse_choice::<SpineKind>)]
     pub spines: Vec<SpineKind>,
     /// A run whose deepest overlap passes this (cm) is counted in the summary.
     #[arg(long, value_parser = non_negative, default_value_t = 1.0)]
@@ -194,9 +193,9 @@ pub struct SweepArgs {
     /// left unset keeping each method's settings.
     #[arg(long, value_delimiter = ',', value_parser = parse_choice::<Method>)]
     pub methods: Vec<Method>,
-    /// Spines, comma separated.
-    #[arg(long, value_delimiter = ',', default_value = "chain3,rod,single",
-          value_parser = parse_choice::<SpineKind>)]
+    /// Spines, comma separated; default the scene's `spines` (with single for humanoids),
+    /// else chain3,rod,single.
+    #[arg(long, value_delimiter = ',', value_parser = parse_choice::<SpineKind>)]
     pub spines: Vec<SpineKind>,
     /// Joint flavours, comma separated; default cheap,exact (with --methods, each method's).
     #[arg(long, value_delimiter = ',', value_parser = parse_choice::<JointFlavour>)]
@@ -246,7 +245,7 @@ pub struct OverrideArgs {
     /// Frames to simulate.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     pub frames: Option<u32>,
-    /// Spine of every ragdoll: chain3, rod or single.
+    /// Spine of every ragdoll (chain3, rod or single) and game character (rig, rod or single).
     #[arg(long, value_parser = parse_choice::<SpineKind>)]
     pub spine: Option<SpineKind>,
     /// Ball-and-socket solver: cheap or exact.

@@ -4,10 +4,10 @@
 //! one rod, or one ball-and-socket.
 //!
 //! The spine region is named by its two end parts (`from`, the lower, and `to`, an
-//! ancestor-chain descendant of it: the hips and the chest). With [`CharacterSpine::Rod`] the
+//! ancestor-chain descendant of it: the hips and the chest). With [`SpineKind::Rod`] the
 //! parts strictly between them leave, and the two ends are joined by one rod instantiated at
 //! the pose (paper §6: rest length and frames from the pose at the transition); with
-//! [`CharacterSpine::Single`] they are joined by one ball-and-socket at the region's first
+//! [`SpineKind::Single`] they are joined by one ball-and-socket at the region's first
 //! joint, its swing and twist ranges the sum of the region's joints'. Either way the leaving
 //! parts' mass is shared equally by the two ends (their inertia scaled with it), so the
 //! character weighs what the rig does, as the reference humanoid's spines do.
@@ -30,30 +30,7 @@ use crate::rig::{PartShape, Rig, SwingTwist};
 use crate::shape::{Axis, Shape};
 use crate::world::World;
 
-use super::Ragdoll;
-
-/// Which spine a character is simulated with.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum CharacterSpine {
-    /// The rig's own spine joints, as shipped.
-    #[default]
-    Rig,
-    /// The paper's simplified ragdoll: the region's ends joined by one rod.
-    Rod,
-    /// The region's ends joined by one ball-and-socket.
-    Single,
-}
-
-impl std::fmt::Display for CharacterSpine {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            CharacterSpine::Rig => "rig",
-            CharacterSpine::Rod => "rod",
-            CharacterSpine::Single => "single",
-        })
-    }
-}
+use super::{Ragdoll, SpineKind};
 
 /// What to build: a rig at a pose, with a spine.
 #[derive(Clone, Debug)]
@@ -66,14 +43,14 @@ pub struct CharacterSpec {
     /// animation hands over.
     pub velocities: Vec<(Vec3, Vec3)>,
     /// The spine to simulate.
-    pub spine: CharacterSpine,
+    pub spine: SpineKind,
     /// The spine region's end parts, lower first (joint names).
     pub region: (String, String),
     /// Parts held fixed (joint names).
     pub fixed: Vec<String>,
     /// Flavour of every ball-and-socket joint.
     pub joint_flavour: JointFlavour,
-    /// The rod's settings, with [`CharacterSpine::Rod`].
+    /// The rod's settings, with [`SpineKind::Rod`].
     pub rod: RodParams,
 }
 
@@ -109,16 +86,21 @@ pub fn build_character(
     spec: &CharacterSpec,
 ) -> Result<Ragdoll, String> {
     let (from, to, interior) = region_parts(rig, &spec.region.0, &spec.region.1)?;
-    let removed = match spec.spine {
-        CharacterSpine::Rig => Vec::new(),
-        _ if interior.is_empty() => {
-            return Err(format!(
-                "the spine region {:?} to {:?} has no part between its ends to replace",
-                spec.region.0, spec.region.1
-            ))
-        }
-        _ => interior,
-    };
+    let removed =
+        match spec.spine {
+            SpineKind::Rig => Vec::new(),
+            SpineKind::Chain3 => return Err(
+                "chain3 is the reference humanoid's spine; a character takes rig, rod or single"
+                    .into(),
+            ),
+            _ if interior.is_empty() => {
+                return Err(format!(
+                    "the spine region {:?} to {:?} has no part between its ends to replace",
+                    spec.region.0, spec.region.1
+                ))
+            }
+            _ => interior,
+        };
     for name in &spec.fixed {
         match rig.part_index(name) {
             Some(i) if !removed.contains(&i) => {}
@@ -176,8 +158,8 @@ pub fn build_character(
         world.constraints.push(Constraint::BallSocket(ball));
     }
     match spec.spine {
-        CharacterSpine::Rig => {}
-        CharacterSpine::Rod => {
+        SpineKind::Rig | SpineKind::Chain3 => {}
+        SpineKind::Rod => {
             let forward = spec.pose[from].rotation * Vec3::Z;
             let mut rod = Rod::instantiate(
                 format!("{}/spine_rod", spec.name),
@@ -189,7 +171,7 @@ pub fn build_character(
             rod.params = spec.rod;
             world.constraints.push(Constraint::Rod(rod));
         }
-        CharacterSpine::Single => {
+        SpineKind::Single => {
             // the region's joints, from its first (at `from`) to its last (into `to`)
             let chain: Vec<&SwingTwist> = (rig.constraints.iter())
                 .filter(|j| {
@@ -230,12 +212,14 @@ pub fn build_character(
             world.constraints.filter_contacts(a, b);
         }
     }
-    Ok(Ragdoll::group(
+    let mut ragdoll = Ragdoll::group(
         &spec.name,
         first_body..world.bodies.len(),
         first_constraint..world.constraints.len(),
         world,
-    ))
+    );
+    ragdoll.spine = Some(spec.spine);
+    Ok(ragdoll)
 }
 
 /// A part's body at the origin (its mass `extra` heavier, inertia scaled with it), and where

@@ -35,23 +35,39 @@ use crate::math::{Iso, Quat, Vec3};
 use crate::skeleton::Skeleton;
 use crate::world::World;
 
-/// How the humanoid's spine between pelvis and chest is built.
+/// How a ragdoll's spine between pelvis and chest is built: the reference humanoid's
+/// (`chain3`, `rod`, `single`) or a game character's (`rig`, `rod`, `single`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Default)]
 #[serde(rename_all = "lowercase")]
 pub enum SpineKind {
-    /// Pelvis - lower spine - upper spine - chest, three ball-and-socket joints.
+    /// The humanoid's pelvis - lower spine - upper spine - chest, three ball-and-socket joints.
     #[default]
     Chain3,
+    /// A game character's own spine joints, as its rig ships them (four on Jolt's human).
+    Rig,
     /// Pelvis - chest joined by one rod constraint (§5), instantiated at the starting pose (§6).
     Rod,
-    /// Pelvis - chest, one ball-and-socket with the three spine joints' ranges added up.
+    /// Pelvis - chest, one ball-and-socket with the spine joints' ranges added up.
     Single,
+}
+
+impl SpineKind {
+    /// Whether a `[[ragdoll]]` (the humanoid) is built with it.
+    pub fn fits_humanoid(self) -> bool {
+        self != SpineKind::Rig
+    }
+
+    /// Whether a `[[character]]` (a game rig) is built with it.
+    pub fn fits_character(self) -> bool {
+        self != SpineKind::Chain3
+    }
 }
 
 impl std::fmt::Display for SpineKind {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(match self {
             SpineKind::Chain3 => "chain3",
+            SpineKind::Rig => "rig",
             SpineKind::Rod => "rod",
             SpineKind::Single => "single",
         })

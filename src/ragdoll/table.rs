@@ -279,14 +279,16 @@ pub fn joint_names(spine: SpineKind) -> Vec<&'static str> {
 
 pub(super) fn joint_defs(spine: SpineKind) -> impl Iterator<Item = &'static JointDef> {
     let spine_joints: &'static [JointDef] = match spine {
-        SpineKind::Chain3 => &CHAIN3_SPINE,
+        // (a scene's check turns `rig` away from the humanoid; built, it is the humanoid's own)
+        SpineKind::Chain3 | SpineKind::Rig => &CHAIN3_SPINE,
         SpineKind::Single | SpineKind::Rod => std::slice::from_ref(&SINGLE_SPINE),
     };
     spine_joints.iter().chain(LIMBS.iter())
 }
 
 pub(super) fn has_part(spine: SpineKind, name: &str) -> bool {
-    spine == SpineKind::Chain3 || !matches!(name, "lower_spine" | "upper_spine")
+    matches!(spine, SpineKind::Chain3 | SpineKind::Rig)
+        || !matches!(name, "lower_spine" | "upper_spine")
 }
 
 /// Part names for this spine.

@@ -3,11 +3,11 @@
 use crate::ragdoll::SpineKind;
 use crate::skeleton::BoneMethod;
 
-/// A spine's colour (Fig. 8: three-joint spine blue, rod red; single joint green); a plain
+/// A spine's colour (Fig. 8: a multi-joint spine blue, rod red; single joint green); a plain
 /// group of loose joints is orange.
 pub(super) fn spine_color(spine: Option<SpineKind>) -> rerun::Color {
     match spine {
-        Some(SpineKind::Chain3) => rerun::Color::from_rgb(60, 110, 220),
+        Some(SpineKind::Chain3 | SpineKind::Rig) => rerun::Color::from_rgb(60, 110, 220),
         Some(SpineKind::Rod) => rerun::Color::from_rgb(220, 60, 50),
         Some(SpineKind::Single) => rerun::Color::from_rgb(60, 170, 90),
         None => rerun::Color::from_rgb(230, 150, 40),

@@ -110,6 +110,18 @@ pub fn check_drop(drop: &DropDef) -> Result<(), Failure> {
             format!("must be an angle from 0 to 180 deg, got {}", drop.max_tip),
         ));
     }
+    let message = match drop.character.is_some() {
+        true if !drop.spine.fits_character() => Some("a character takes rig, rod or single"),
+        false if !drop.spine.fits_humanoid() => Some("a ragdoll takes chain3, rod or single"),
+        _ => None,
+    };
+    if let Some(m) = message {
+        return Err((at("spine"), format!("{m}, got {}", drop.spine)));
+    }
+    if drop.character.as_ref().is_some_and(|c| c.clips.is_empty()) {
+        let path = vec![k("drop"), k("character"), k("clips")];
+        return Err((path, "names no clip; give at least one".into()));
+    }
     Ok(())
 }
 

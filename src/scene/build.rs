@@ -7,6 +7,7 @@ use crate::body::{Body, BodyId, BodyKind};
 use crate::constraint::{AngularLimit, BallSocket, Constraint, JointFlavour, Rod};
 use crate::lab::Lab;
 use crate::math::{quat_from_degrees, Iso, Vec3};
+use crate::playback::Playback;
 use crate::ragdoll::character::build_character;
 use crate::ragdoll::{HumanoidSpec, Ragdoll, RodParams};
 use crate::shape::Axis;
@@ -33,15 +34,19 @@ impl Scene {
                 .map_err(|m| self.error_at(&path, m))?;
         }
         for (i, c) in d.character.iter().enumerate() {
-            let group = self.character_spec(i, c)?;
-            let built = build_character(&mut lab.world, &group.0, &group.1);
+            let (rig, spec) = self.character_spec(i, c)?;
+            let built = build_character(&mut lab.world, &rig, &spec);
             let path = [
                 Seg::Key("character".into()),
                 Seg::Index(i),
                 Seg::Key("spine".into()),
             ];
-            lab.ragdolls
-                .push(built.map_err(|m| self.error_at(&path, m))?);
+            let ragdoll = built.map_err(|m| self.error_at(&path, m))?;
+            if let Some(part_poses) = self.character_playback(&rig, c) {
+                let playback = playback_of(&mut lab.world, &rig, &spec, &ragdoll, part_poses);
+                lab.playbacks.push(playback);
+            }
+            lab.ragdolls.push(ragdoll);
         }
         let first_body = lab.world.bodies.len();
         let first_constraint = lab.world.constraints.len();
@@ -207,4 +212,36 @@ fn build_body(b: &BodyDef) -> Body {
     body.collision_group = b.collision_group.unwrap_or(body.collision_group);
     body.collision_mask = b.collision_mask.unwrap_or(body.collision_mask);
     body
+}
+
+/// A character's clip played on its bodies: each body keeps the offset from its part it was
+/// built with at the handover pose, and follows the part's pose frame by frame.
+fn playback_of(
+    world: &mut World,
+    rig: &crate::rig::Rig,
+    spec: &crate::ragdoll::character::CharacterSpec,
+    ragdoll: &Ragdoll,
+    part_poses: Vec<Vec<Iso>>,
+) -> Playback {
+    let prefix = format!("{}/", spec.name);
+    let mut bodies = Vec::new();
+    let mut offsets = Vec::new();
+    for index in ragdoll.bodies.clone() {
+        let body = &world.bodies[index];
+        let joint = body.name.strip_prefix(&prefix).unwrap_or(&body.name);
+        let Some(part) = rig.part_index(joint) else {
+            continue;
+        };
+        let at = Iso::new(body.position, body.orientation);
+        bodies.push((BodyId(index as u32), part));
+        offsets.push(spec.pose[part].inverse() * at);
+    }
+    let poses = (part_poses.iter())
+        .map(|parts| {
+            (bodies.iter().zip(&offsets))
+                .map(|(&(_, p), &o)| parts[p] * o)
+                .collect()
+        })
+        .collect();
+    Playback::start(world, bodies.iter().map(|&(id, _)| id).collect(), poses)
 }

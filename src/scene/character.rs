@@ -77,6 +77,20 @@ impl Scene {
     }
 }
 
+impl Scene {
+    /// With `play_from`: per frame from the first to the handover, the rig's parts' world
+    /// poses, one frame `dt` apart and the last at the handover time `time`.
+    pub(super) fn character_playback(&self, rig: &Rig, c: &CharacterDef) -> Option<Vec<Vec<Iso>>> {
+        let from = c.play_from?;
+        let dir = self.path.parent().unwrap_or(std::path::Path::new("."));
+        let clip = Animation::load(dir.join(c.clip.as_ref()?)).ok()?;
+        let dt = self.def.dt;
+        let frames = ((c.time - from) / dt).round().max(0.0) as usize;
+        let times = (0..=frames).map(|k| c.time - (frames - k) as f32 * dt);
+        Some(times.map(|t| posed(rig, Some(&clip), t, c)).collect())
+    }
+}
+
 /// The rig's parts' world poses at `time` of `clip` (none: the rig file's pose), each of the
 /// character's extra turns applied about the world's axes at its joint (parents first), placed.
 fn posed(rig: &Rig, clip: Option<&Animation>, time: f32, c: &CharacterDef) -> Vec<Iso> {

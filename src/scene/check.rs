@@ -151,11 +151,19 @@ impl Scene {
         for (i, r) in d.ragdoll.iter().enumerate() {
             check_name(&r.name, &names).map_err(|m| (at("ragdoll", i, "name"), m))?;
             names.push(&r.name);
+            if !r.spine.fits_humanoid() {
+                let m = "rig is a game character's spine; a ragdoll takes chain3, rod or single";
+                return Err((at("ragdoll", i, "spine"), m.into()));
+            }
             check_ragdoll(r, |f| at("ragdoll", i, f))?;
         }
         for (i, c) in d.character.iter().enumerate() {
             check_name(&c.name, &names).map_err(|m| (at("character", i, "name"), m))?;
             names.push(&c.name);
+            if !c.spine.fits_character() {
+                let m = "chain3 is the reference humanoid's spine; a character takes rig, rod or single";
+                return Err((at("character", i, "spine"), m.into()));
+            }
             bounds::check_character(c, |f| at("character", i, f))?;
             for (field, alpha) in [("alpha_b", c.alpha_b), ("alpha_t", c.alpha_t)] {
                 check_relaxation(Some(alpha)).map_err(|m| (at("character", i, field), m))?;

@@ -1,13 +1,72 @@
-//! Generated content: a `[drop]` block's ragdolls and a `[[tile]]`'s copies, made when the
-//! scene is parsed so that the checks and the build see plain `[[ragdoll]]` and `[[body]]`
-//! entries.
+//! Generated content: a `[drop]` block's ragdolls or characters and a `[[tile]]`'s copies,
+//! made when the scene is parsed so that the checks and the build see plain `[[ragdoll]]`,
+//! `[[character]]` and `[[body]]` entries.
 
-use super::{BodyDef, DropDef, RagdollDef, TileDef};
+use super::{BodyDef, CharacterDef, DropDef, RagdollDef, TileDef};
 use crate::math::quat_from_degrees;
 
 impl DropDef {
-    /// The ragdolls this block stands for.
+    /// The characters this block stands for, with a `character` table (else none).
+    pub(super) fn expand_characters(&self) -> Vec<CharacterDef> {
+        let Some(c) = &self.character else {
+            return Vec::new();
+        };
+        let defaults = CharacterDef::default_alphas();
+        (self.layout().into_iter().enumerate())
+            .map(|(i, (position, rotation))| CharacterDef {
+                name: format!("drop{i:03}"),
+                rig: c.rig.clone(),
+                clip: c.clips.get(i % c.clips.len().max(1)).cloned(),
+                time: c.time,
+                play_from: None,
+                position,
+                rotation,
+                pose: Default::default(),
+                spine: self.spine,
+                region: c.region.clone(),
+                fixed: Vec::new(),
+                joint_flavour: None,
+                alpha_b: c.alpha_b.unwrap_or(defaults.0),
+                alpha_t: c.alpha_t.unwrap_or(defaults.1),
+                twist: Default::default(),
+            })
+            .collect()
+    }
+
+    /// The humanoids this block stands for, without a `character` table (else none).
     pub(super) fn expand(&self) -> Vec<RagdollDef> {
+        if self.character.is_some() {
+            return Vec::new();
+        }
+        (self.layout().into_iter().enumerate())
+            .map(|(i, (position, rotation))| RagdollDef {
+                name: format!("drop{i:02}"),
+                spine: self.spine,
+                joint_flavour: None,
+                position,
+                rotation,
+                pose: Default::default(),
+                fixed: Vec::new(),
+                spine_spring: Some(0.05),
+                limb_spring: None,
+                alpha_b: None,
+                alpha_t: None,
+                bend_stiffness: None,
+                bend_damping: None,
+                twist_stiffness: None,
+                twist_damping: None,
+                twist: None,
+                rod_length: None,
+                bend_twist: None,
+                forces: Default::default(),
+                self_contacts: self.self_contacts,
+            })
+            .collect()
+    }
+
+    /// Each dropped item's position (m) and rotation vector (deg): on the grid, turned by a
+    /// random yaw and tipped by a random angle from the seed.
+    fn layout(&self) -> Vec<([f32; 3], [f32; 3])> {
         let mut state = self
             .seed
             .wrapping_mul(6364136223846793005)
@@ -34,28 +93,10 @@ impl DropDef {
                 let rotation = crate::math::rotation_vector(
                     quat_from_degrees([0.0, yaw, 0.0]) * quat_from_degrees([tip, 0.0, 0.0]),
                 );
-                RagdollDef {
-                    name: format!("drop{i:02}"),
-                    spine: self.spine,
-                    joint_flavour: None,
+                (
                     position,
-                    rotation: (rotation * 180.0 / std::f32::consts::PI).to_array(),
-                    pose: Default::default(),
-                    fixed: Vec::new(),
-                    spine_spring: Some(0.05),
-                    limb_spring: None,
-                    alpha_b: None,
-                    alpha_t: None,
-                    bend_stiffness: None,
-                    bend_damping: None,
-                    twist_stiffness: None,
-                    twist_damping: None,
-                    twist: None,
-                    rod_length: None,
-                    bend_twist: None,
-                    forces: Default::default(),
-                    self_contacts: self.self_contacts,
-                }
+                    (rotation * 180.0 / std::f32::consts::PI).to_array(),
+                )
             })
             .collect()
     }

@@ -144,8 +144,9 @@ impl Scene {
         // the drop block is checked before it makes its ragdolls
         if let Some(drop) = &scene.def.drop {
             bounds::check_drop(drop).map_err(|(p, message)| scene.error_at(&p, message))?;
-            let generated = drop.expand();
-            scene.def.ragdoll.extend(generated);
+            let (humanoids, characters) = (drop.expand(), drop.expand_characters());
+            scene.def.ragdoll.extend(humanoids);
+            scene.def.character.extend(characters);
         }
         // tiles are checked where they are written, then copied into `body`
         scene

@@ -4,7 +4,7 @@
 use serde::Deserialize;
 
 use super::locate::{self, Seg};
-use super::{Method, RagdollDef, Scene, SceneDef};
+use super::{CharacterDef, Method, RagdollDef, Scene, SceneDef};
 use crate::constraint::{BendTwist, JointFlavour, TwistMode};
 use crate::ragdoll::{SelfContacts, SpineKind};
 
@@ -118,6 +118,15 @@ impl Overrides {
                     (r.position, r.rotation) = (fresh.position, fresh.rotation);
                 }
             }
+            let laid_out: std::collections::HashMap<String, CharacterDef> =
+                (drop.expand_characters().into_iter())
+                    .map(|c| (c.name.clone(), c))
+                    .collect();
+            for c in &mut def.character {
+                if let Some(fresh) = laid_out.get(&c.name) {
+                    (c.position, c.rotation) = (fresh.position, fresh.rotation);
+                }
+            }
         }
         self.apply_method_settings(def);
         set(&mut def.frames, self.frames);
@@ -131,6 +140,7 @@ impl Overrides {
         }
         if let Some(spine) = self.spine {
             def.ragdoll.iter_mut().for_each(|r| r.spine = spine);
+            def.character.iter_mut().for_each(|c| c.spine = spine);
         }
         if let Some(flavour) = self.joint_flavour {
             def.joint_flavour = flavour;
@@ -159,6 +169,13 @@ impl Overrides {
                 &mut r.alpha_t,
                 &mut r.twist_stiffness,
                 &mut r.twist_damping,
+            );
+        }
+        for c in &mut def.character {
+            c.twist = twist_measure.unwrap_or(c.twist);
+            (c.alpha_b, c.alpha_t) = (
+                bend.alpha.unwrap_or(c.alpha_b),
+                twist.alpha.unwrap_or(c.alpha_t),
             );
         }
         for r in &mut def.rod {
@@ -209,6 +226,7 @@ impl Overrides {
         let RodOverrides { bend, twist, .. } = self.rod;
         let flags = [
             ("frames", "--frames", self.frames.is_some()),
+            ("spine", "--spine", self.spine.is_some()),
             ("every", "--record-every", self.record_every.is_some()),
             ("alpha_b", "--alpha-b", bend.alpha.is_some()),
             ("alpha_t", "--alpha-t", twist.alpha.is_some()),
@@ -238,7 +256,8 @@ impl Overrides {
             return Err("--seed lays out a [drop] block's ragdolls, and the scene has none".into());
         }
         let rod_spines = || def.ragdoll.iter().filter(|r| r.spine == SpineKind::Rod);
-        let has_rods = rod_spines().next().is_some() || !def.rod.is_empty();
+        let rod_characters = def.character.iter().any(|c| c.spine == SpineKind::Rod);
+        let has_rods = rod_spines().next().is_some() || rod_characters || !def.rod.is_empty();
         let RodOverrides { bend, twist, .. } = self.rod;
         let rod_flags = [
             ("--alpha-b", bend.alpha.is_some()),

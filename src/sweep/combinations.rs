@@ -70,7 +70,7 @@ pub fn combinations(def: &SceneDef, config: &SweepConfig) -> Vec<Overrides> {
             true => vec![own.joint_flavour],
             false => config.joints.clone(),
         };
-        for &spine in &config.spines {
+        for &spine in &spines(def, &config.spines) {
             for bend_twist in bend_twists(spine) {
                 for &joint in &joints {
                     let base = Overrides {
@@ -153,4 +153,20 @@ fn label_suffixes(spine: SpineKind, def: &SceneDef) -> Vec<String> {
         label.push(" block".into());
     }
     label
+}
+
+/// The spines to sweep: those asked for; else the scene's `spines` (and `single` beside a
+/// humanoid's); else the humanoid's three.
+fn spines(def: &SceneDef, asked: &[SpineKind]) -> Vec<SpineKind> {
+    if !asked.is_empty() {
+        return asked.to_vec();
+    }
+    let mut spines = match def.spines.is_empty() {
+        true => vec![SpineKind::Chain3, SpineKind::Rod],
+        false => def.spines.clone(),
+    };
+    if !spines.contains(&SpineKind::Single) && def.character.is_empty() {
+        spines.push(SpineKind::Single);
+    }
+    spines
 }

@@ -89,6 +89,11 @@ pub fn run_layouts(
         "{}: the scene has no [drop] block, so it has no layouts to vary",
         scene.display()
     );
+    let spines = match (spines.is_empty(), base.def.spines.is_empty()) {
+        (false, _) => spines,
+        (true, false) => &base.def.spines[..],
+        (true, true) => &[SpineKind::Chain3, SpineKind::Rod][..],
+    };
     let runs: Vec<(u64, SpineKind)> = seeds
         .iter()
         .flat_map(|&seed| spines.iter().map(move |&spine| (seed, spine)))

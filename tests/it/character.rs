@@ -212,3 +212,152 @@ fn character_mistakes_name_their_field() {
         assert!(e.contains(field) && e.contains(words), "{to}: {e}");
     }
 }
+
+/// A `[drop]` with a `character` table makes `[[character]]`s as it makes humanoids: one per
+/// layout slot, named in order, the clips taken in turn, laid out by the seed; `--spine` and a
+/// variant's spine reach them; a humanoid's spine is turned away from a character and a
+/// character's from a humanoid, naming the field.
+#[test]
+fn a_drop_of_characters_is_laid_out_as_a_drop_of_humanoids() {
+    let text = |spine: &str, seed: u64| {
+        format!(
+            "method = \"paper\"\nframes = 10\ncontacts = true\n[drop]\ncount = 6\nspine = \"{spine}\"\n\
+             first = [0.0, 1.0, 0.0]\nspacing = [3.0, 0.6, 3.0]\ncolumns = 2\nrows = 1\nseed = {seed}\n\
+             character = {{ rig = \"{RIGS}/Human.tof\", clips = [\"{RIGS}/dead_pose1.tof\", \
+             \"{RIGS}/dead_pose2.tof\"], region = {{ from = \"hipsBone\", to = \"C_Spine_sjnt_4\" }} }}\n\
+             [[body]]\nname = \"floor\"\nkind = \"fixed\"\nshape = \"plane\"\n"
+        )
+    };
+    let scene = Scene::parse("/d.toml", &text("rig", 3)).unwrap();
+    let d = &scene.def;
+    assert!(d.ragdoll.is_empty());
+    let names: Vec<&str> = d.character.iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(
+        names,
+        ["drop000", "drop001", "drop002", "drop003", "drop004", "drop005"]
+    );
+    for (i, c) in d.character.iter().enumerate() {
+        let clip = c.clip.as_deref().unwrap();
+        assert!(
+            clip.ends_with(["dead_pose1.tof", "dead_pose2.tof"][i % 2]),
+            "{clip}"
+        );
+        // two per layer, layers 0.6 m apart
+        assert_eq!(c.position[1], 1.0 + 0.6 * (i / 2) as f32);
+    }
+    let other_seed = Scene::parse("/d.toml", &text("rig", 4)).unwrap();
+    assert_ne!(
+        d.character[0].rotation,
+        other_seed.def.character[0].rotation
+    );
+    let lab = scene.build().unwrap();
+    assert_eq!(lab.ragdolls.len(), 6);
+    assert_eq!(lab.world.bodies.len(), 6 * 23 + 1);
+    let mut rod = scene.clone();
+    let overrides = sim::Overrides {
+        spine: Some(rodlab::ragdoll::SpineKind::Rod),
+        seed: Some(4),
+        ..Default::default()
+    };
+    overrides.apply(&mut rod.def);
+    assert_eq!(
+        rod.def.character[0].rotation,
+        other_seed.def.character[0].rotation
+    );
+    let lab = rod.build().unwrap();
+    assert_eq!(lab.world.bodies.len(), 6 * 20 + 1);
+    let chain3 = sim::Overrides {
+        spine: Some(rodlab::ragdoll::SpineKind::Chain3),
+        ..Default::default()
+    };
+    let mut wrong = scene.clone();
+    chain3.apply(&mut wrong.def);
+    let e = chain3.check_on(&wrong).unwrap_err();
+    assert!(
+        e.contains("--spine") && e.contains("rig, rod or single"),
+        "{e}"
+    );
+    let e = Scene::parse("/d.toml", &text("chain3", 3))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("d.toml:6: drop.spine") && e.contains("chain3"),
+        "{e}"
+    );
+    let humanoid = "method = \"paper\"\n[[ragdoll]]\nname = \"h\"\nspine = \"rig\"\n";
+    let e = Scene::parse("/h.toml", humanoid).unwrap_err().to_string();
+    assert!(
+        e.contains("ragdoll[0].spine") && e.contains("h.toml:4"),
+        "{e}"
+    );
+}
+
+/// `play_from`: the clip plays on kinematic bodies from `play_from` to the handover `time`,
+/// each frame's step carrying every body to where the clip has it a frame later (within 1 mm
+/// and 0.01 rad); at the handover frame the bodies turn dynamic at the clip's pose with its
+/// velocities, exactly as a character handed over at the first frame starts.
+#[test]
+fn a_clip_plays_kinematically_until_the_handover_then_physics_takes_over() {
+    let text = standing("rod", "").text.replace("neutral.tof", "walk.tof");
+    let handed = text.replace("fixed = [\"hipsBone\"]", "time = 1.0");
+    let played = text.replace("fixed = [\"hipsBone\"]", "time = 1.0\nplay_from = 0.5");
+    let at_once = Scene::parse("/c.toml", &handed).unwrap().build().unwrap();
+    let scene = Scene::parse("/c.toml", &played).unwrap();
+    let mut lab = scene.build().unwrap();
+    let rig = Rig::load(format!("{RIGS}/Human.tof")).unwrap();
+    let walk = Animation::load(format!("{RIGS}/walk.tof")).unwrap();
+    let dt = scene.def.dt;
+    let handover = (0.5 / dt).round() as usize;
+    assert_eq!(lab.playbacks[0].handover_frame(), handover);
+    // each body's centre and orientation as the clip has them at `t` (the body's turn from its
+    // part as built at the handover)
+    let com = |k: usize, t: f32| {
+        let b = &at_once.world.bodies[k];
+        let part = rig.part_index(b.name.trim_start_matches("c/")).unwrap();
+        let built = rig.pose(&walk, 1.0)[part].rotation.inverse() * b.orientation;
+        let pose = rig.pose(&walk, t)[part];
+        (
+            pose.transform_point(rig.parts[part].mass.com),
+            pose.rotation * built,
+        )
+    };
+    for frame in 0..handover {
+        assert!(
+            lab.world.bodies.iter().all(|b| !b.is_dynamic()),
+            "frame {frame}"
+        );
+        lab.step().unwrap();
+        let t = 1.0 - (handover - frame - 1) as f32 * dt;
+        for (k, b) in lab.world.bodies.iter().enumerate() {
+            let (position, rotation) = com(k, t);
+            let off = (b.position - position).length();
+            assert!(
+                off < 1e-3,
+                "frame {frame}, {}: {off} m from the clip",
+                b.name
+            );
+            let turn = rodlab::math::rotation_vector(b.orientation * rotation.inverse());
+            assert!(turn.length() < 0.01, "frame {frame}, {}: {turn}", b.name);
+        }
+    }
+    // the handover frame's step starts from the bodies as a handover at the first frame builds
+    // them
+    let mut first = lab.clone();
+    first.playbacks[0].pose(&mut first.world);
+    for (b, a) in first.world.bodies.iter().zip(&at_once.world.bodies) {
+        assert!(b.is_dynamic(), "{}", b.name);
+        assert!((b.position - a.position).length() < 1e-5, "{}", b.name);
+        assert!(
+            (b.linear_velocity - a.linear_velocity).length() < 1e-5,
+            "{}",
+            b.name
+        );
+        assert!(
+            (b.angular_velocity - a.angular_velocity).length() < 1e-5,
+            "{}",
+            b.name
+        );
+    }
+    lab.step().unwrap();
+    assert!(lab.world.bodies.iter().all(|b| b.is_dynamic()));
+}

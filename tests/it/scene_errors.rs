@@ -65,7 +65,7 @@ fn unknown_spine_names_the_field_and_choices() {
         "{e}"
     );
     assert!(
-        e.contains("\"chian3\"") && e.contains("chain3, rod, single"),
+        e.contains("\"chian3\"") && e.contains("chain3, rig, rod, single"),
         "{e}"
     );
 }

@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 use serde::Deserialize;
 
 use crate::constraint::{JointFlavour, TwistMode};
-use crate::ragdoll::character::CharacterSpine;
+use crate::ragdoll::SpineKind;
 
 /// A character built from a rig file and posed by an animation clip.
 #[derive(Clone, Debug, Deserialize)]
@@ -19,9 +19,12 @@ pub struct CharacterDef {
     /// An animation clip (Jolt's `SkeletalAnimation` text stream) that poses the rig, relative
     /// to the scene file; none: the rig file's own pose.
     pub clip: Option<String>,
-    /// The clip's time (s) the pose is taken at.
+    /// The clip's time (s) the pose is taken at: the handover to physics.
     #[serde(default)]
     pub time: f32,
+    /// The clip's time (s) to play it from, kinematically, until `time` (paper §6: the
+    /// ragdoll takes over a character in motion); none: physics from the first frame.
+    pub play_from: Option<f32>,
     /// Where the clip's origin is placed (m).
     #[serde(default)]
     pub position: [f32; 3],
@@ -34,8 +37,8 @@ pub struct CharacterDef {
     pub pose: BTreeMap<String, [f32; 3]>,
     /// The spine: `rig` (the rig's own joints), `rod` (one rod between the region's ends) or
     /// `single` (one ball-and-socket).
-    #[serde(default)]
-    pub spine: CharacterSpine,
+    #[serde(default = "rig_spine")]
+    pub spine: SpineKind,
     /// The spine region's end parts, the lower first (`{ from = "hipsBone", to = "C_Spine_sjnt_4" }`).
     pub region: RegionDef,
     /// Parts held fixed.
@@ -62,6 +65,17 @@ pub struct RegionDef {
     pub from: String,
     /// The upper end (the chest).
     pub to: String,
+}
+
+impl CharacterDef {
+    /// The rod's relaxations when a character names none: (alpha_b, alpha_t).
+    pub fn default_alphas() -> (f32, f32) {
+        (default_alpha_b(), default_alpha_t())
+    }
+}
+
+fn rig_spine() -> SpineKind {
+    SpineKind::Rig
 }
 
 fn default_alpha_b() -> f32 {

@@ -16,7 +16,7 @@ mod rods;
 
 pub use bodies::{BodyDef, JointDef, KindDef, ShapeKind, TileDef};
 pub use characters::{CharacterDef, RegionDef};
-pub use ragdolls::{DropDef, RagdollDef};
+pub use ragdolls::{DropCharacterDef, DropDef, RagdollDef};
 pub use record::RecordDef;
 pub use rods::{RodDef, StiffnessDef};
 

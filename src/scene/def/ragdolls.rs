@@ -34,6 +34,30 @@ pub struct DropDef {
     /// or `none` ([`SelfContacts`]).
     #[serde(default)]
     pub self_contacts: SelfContacts,
+    /// Game characters instead of humanoids: what each `[[character]]` the block makes is
+    /// built from (`spine` then takes `rig`, `rod` or `single`).
+    pub character: Option<DropCharacterDef>,
+}
+
+/// What a `[drop]` of game characters builds each one from: the rig, the clips (the `i`-th
+/// character takes clip `i` mod their count), the time and the spine region.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DropCharacterDef {
+    /// The rig file, relative to the scene file.
+    pub rig: String,
+    /// Clips or poses, relative to the scene file; taken in turn.
+    pub clips: Vec<String>,
+    /// The clips' time (s) the poses are taken at.
+    #[serde(default)]
+    pub time: f32,
+    /// The spine region's end parts, as `[[character]]` names them.
+    pub region: super::RegionDef,
+    /// The rod's bending relaxation (eq. 11), with the rod spine; none: `[[character]]`'s
+    /// default.
+    pub alpha_b: Option<f32>,
+    /// The rod's twisting relaxation (eq. 13), with the rod spine.
+    pub alpha_t: Option<f32>,
 }
 
 fn default_tip() -> f32 {

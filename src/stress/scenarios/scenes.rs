@@ -178,7 +178,7 @@ fn humanoid(method: Method, stiff_spine: bool) -> HumanoidSpec {
 /// Joint rotations bending the spine forward (about +x, toward +z) by `angle` in total.
 fn spine_bend(spine: SpineKind, angle: f32) -> Vec<(String, Quat)> {
     let joints: &[&str] = match spine {
-        SpineKind::Chain3 => &["lumbosacral", "thoracolumbar", "mid_thoracic"],
+        SpineKind::Chain3 | SpineKind::Rig => &["lumbosacral", "thoracolumbar", "mid_thoracic"],
         SpineKind::Rod | SpineKind::Single => &["lumbosacral"],
     };
     let each = crate::math::quat_from_rotation_x(angle / joints.len() as f32);
