@@ -23,7 +23,8 @@
 //! - [`sleep`]: islands of still bodies taken out of the step;
 //! - [`world`]: bodies + constraints + contacts + settings, failure detection; physics only;
 //! - [`ragdoll`]: the reference humanoid builder (spines chain3 | single | rod);
-//! - [`rig`]: game rigs and their animations, read from Jolt's text object streams;
+//! - [`rig`]: game rigs, their animations and animation skeletons, read from Jolt's text object
+//!   streams;
 //! - [`skeleton`]: the animation bones posed back from the physics (§6);
 //! - [`lab`]: the world plus what the experiments measure and draw (ragdolls, their skeletons
 //!   and target poses); what scenes build and the run loop, metrics and recorder take;
