@@ -23,10 +23,12 @@
 //! - [`sleep`]: islands of still bodies taken out of the step;
 //! - [`world`]: bodies + constraints + contacts + settings, failure detection; physics only;
 //! - [`ragdoll`]: the reference humanoid builder (spines chain3 | single | rod);
-//! - [`rig`]: game rigs and their animations, read from Jolt's text object streams;
+//! - [`rig`]: game rigs, their animations and animation skeletons, read from Jolt's text object
+//!   streams;
 //! - [`skeleton`]: the animation bones posed back from the physics (§6);
 //! - [`lab`]: the world plus what the experiments measure and draw (ragdolls, their skeletons
 //!   and target poses); what scenes build and the run loop, metrics and recorder take;
+//! - [`playback`]: a character's clip played on kinematic bodies until its handover (§6);
 //! - [`scene`]: TOML scene definitions and their checks;
 //! - [`kinematics`]: chain-versus-rod end loci (Fig. 6);
 //! - [`metrics`]: residual dislocation (cm) and angular violation (rad), energy;

@@ -3,7 +3,10 @@
 //! Animation rigs have four joints between hips and upper spine: bones `pelvis`, `spine_0` ..
 //! `spine_3`, `chest`, with origins evenly spaced from 1.060 m to 1.270 m in the reference pose
 //! (`shared/humanoid.md`). At the transition (when the ragdoll is built) every bone is attached
-//! to its nearest physics body. Every frame the bones are posed back:
+//! to a physics body: [`Skeleton::attach`] places the humanoid's bones at their reference
+//! heights on their nearest bodies; [`Skeleton::new`] takes any chain's bones as their world
+//! poses at the transition and the bodies they follow (a game character's animation skeleton,
+//! [`crate::rig::skeleton`]). Every frame the bones are posed back:
 //!
 //! - [`BoneMethod::Rigid`]: a bone follows its body one to one (chain3 and single spines, and the
 //!   pelvis and chest bones always);
@@ -117,15 +120,41 @@ impl Skeleton {
             )
         };
         let attached: [(BodyId, Iso); BONES] = std::array::from_fn(|i| nearest(i, heights[i]));
+        Skeleton::from_body_frames(world, attached, rod).expect("the humanoid's spine rod")
+    }
+
+    /// Attaches the bones at the ragdoll's current (transition) pose, each given by its world
+    /// pose there and the body it follows, pelvis first and chest last: the pelvis and chest
+    /// bones' bodies are the spine's two ends, whose turns the rod methods share out. `rod` is
+    /// the index of the rod constraint joining them; an error when it is not a rod.
+    pub fn new(
+        world: &World,
+        bones: &[(BodyId, Iso); BONES],
+        rod: Option<usize>,
+    ) -> Result<Skeleton, String> {
+        let attached = bones.map(|(id, pose)| {
+            let body = world.body(id);
+            (
+                id,
+                Iso::new(body.position, body.orientation).inverse() * pose,
+            )
+        });
+        Skeleton::from_body_frames(world, attached, rod)
+    }
+
+    /// Attaches the bones given by their poses in their bodies' frames (see [`Skeleton::new`]).
+    fn from_body_frames(
+        world: &World,
+        attached: [(BodyId, Iso); BONES],
+        rod: Option<usize>,
+    ) -> Result<Skeleton, String> {
+        let (pelvis, chest) = (attached[0].0, attached[BONES - 1].0);
         let mut skeleton = Skeleton {
             attached,
             lengths: [0.0; BONES - 1],
             bones_at_transition: Bones::default(),
-            pelvis: (bodies[0].0, world.body(bodies[0].0).orientation),
-            chest: (
-                bodies.last().unwrap().0,
-                world.body(bodies.last().unwrap().0).orientation,
-            ),
+            pelvis: (pelvis, world.body(pelvis).orientation),
+            chest: (chest, world.body(chest).orientation),
             rod: None,
         };
         let bones = skeleton.rigid(world);
@@ -133,8 +162,8 @@ impl Skeleton {
             std::array::from_fn(|k| (bones.origins[k + 1] - bones.origins[k]).length());
         skeleton.bones_at_transition = bones;
         if let Some(index) = rod {
-            let Constraint::Rod(r) = &world.constraints[index] else {
-                panic!("not a rod")
+            let Some(Constraint::Rod(r)) = world.constraints.get(index) else {
+                return Err(format!("constraint {index} is not a rod"));
             };
             let (a, b) = (world.body(r.body_a), world.body(r.body_b));
             let (start, frame) = r.sample(a, b, 0.0);
@@ -150,7 +179,12 @@ impl Skeleton {
             });
             skeleton.rod = Some((index, placement));
         }
-        skeleton
+        Ok(skeleton)
+    }
+
+    /// The body each bone follows, pelvis first.
+    pub fn bodies(&self) -> [BodyId; BONES] {
+        self.attached.map(|(id, _)| id)
     }
 
     /// The mapping methods that apply: the three rod methods for a rod spine, else `Rigid`.

@@ -170,7 +170,8 @@ pub struct LayoutsArgs {
     /// Layout seeds: numbers and ranges, comma separated (e.g. 1-16,20).
     #[arg(long, default_value = "1-8", value_parser = seed_list)]
     pub seeds: SeedList,
-    /// Spines, comma separated; default the scene's `spines`, else chain3,rod.
+    /// Spines, comma separated; default the scene's `spines`, else chain3,rod (rig,rod for
+    /// game characters).
     #[arg(long, value_delimiter = ',', value_parser = parse_choice::<SpineKind>)]
     pub spines: Vec<SpineKind>,
     /// A run whose deepest overlap passes this (cm) is counted in the summary.
@@ -193,8 +194,8 @@ pub struct SweepArgs {
     /// left unset keeping each method's settings.
     #[arg(long, value_delimiter = ',', value_parser = parse_choice::<Method>)]
     pub methods: Vec<Method>,
-    /// Spines, comma separated; default the scene's `spines` (with single for humanoids),
-    /// else chain3,rod,single.
+    /// Spines, comma separated; default the scene's `spines` and single, else chain3,rod,single
+    /// (rig,rod,single for game characters).
     #[arg(long, value_delimiter = ',', value_parser = parse_choice::<SpineKind>)]
     pub spines: Vec<SpineKind>,
     /// Joint flavours, comma separated; default cheap,exact (with --methods, each method's).

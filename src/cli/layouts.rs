@@ -18,10 +18,14 @@ pub(super) fn layouts(args: &LayoutsArgs) -> anyhow::Result<()> {
     if overrides.seed.is_some() || overrides.spine.is_some() {
         anyhow::bail!("--seed and --spine: the layouts take --seeds and --spines");
     }
+    let spines = match args.spines.is_empty() {
+        true => crate::scene::Scene::load(&args.scene)?.def.default_spines(),
+        false => args.spines.clone(),
+    };
     let survey_args = Survey {
         variant: args.variant.as_deref(),
         seeds: &args.seeds.0,
-        spines: &args.spines,
+        spines: &spines,
         overlap_cm: args.overlap_cm,
     };
     survey(&args.scene, &survey_args, &overrides, &args.out)

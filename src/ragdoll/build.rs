@@ -66,6 +66,7 @@ pub fn build_humanoid(world: &mut World, spec: &HumanoidSpec) -> Result<Ragdoll,
         bodies: first_body..world.bodies.len(),
         constraints: first_constraint..world.constraints.len(),
         skeleton: Some(Skeleton::attach(world, &spine_bodies, rod)),
+        hd_skeleton: None,
         target_positions: world.bodies[first_body..]
             .iter()
             .map(|b| b.position)

@@ -12,6 +12,9 @@
 //! parts' mass is shared equally by the two ends (their inertia scaled with it), so the
 //! character weighs what the rig does, as the reference humanoid's spines do.
 //!
+//! Given the game's animation skeleton, the character carries it posed back from its bodies
+//! ([`MappedSkeleton`]): the spine's bones by the §6 methods, measured as the humanoid's are.
+//!
 //! What the solver's bodies take from a part, and what they approximate:
 //! - mass, centre of mass and inertia from the part's true shapes (tapered capsules exact);
 //!   the body's frame is the part's first shape's, at the centre of mass, with the inertia
@@ -26,6 +29,7 @@
 use crate::body::{Body, BodyId, BodyKind};
 use crate::constraint::{AngularLimit, BallSocket, Constraint, JointFlavour, Rod, RodParams};
 use crate::math::{Iso, Mat3, Quat, Vec3};
+use crate::rig::skeleton::{AnimationSkeleton, Handover, MappedSkeleton};
 use crate::rig::{PartShape, Rig, SwingTwist};
 use crate::shape::{Axis, Shape};
 use crate::world::World;
@@ -52,6 +56,9 @@ pub struct CharacterSpec {
     pub joint_flavour: JointFlavour,
     /// The rod's settings, with [`SpineKind::Rod`].
     pub rod: RodParams,
+    /// The game's animation skeleton and its joints' neutral local transforms, posed back
+    /// from the bodies (§6, [`MappedSkeleton`]); none: the character carries no skeleton.
+    pub animation_skeleton: Option<(AnimationSkeleton, Vec<Iso>)>,
 }
 
 /// The region's end parts and the parts strictly between them, or why the region is not a
@@ -157,6 +164,7 @@ pub fn build_character(
         );
         world.constraints.push(Constraint::BallSocket(ball));
     }
+    let mut rod_index = None;
     match spec.spine {
         SpineKind::Rig | SpineKind::Chain3 => {}
         SpineKind::Rod => {
@@ -169,6 +177,7 @@ pub fn build_character(
                 forward,
             )?;
             rod.params = spec.rod;
+            rod_index = Some(world.constraints.len());
             world.constraints.push(Constraint::Rod(rod));
         }
         SpineKind::Single => {
@@ -219,6 +228,24 @@ pub fn build_character(
         world,
     );
     ragdoll.spine = Some(spec.spine);
+    if let Some((skeleton, neutral_locals)) = &spec.animation_skeleton {
+        let handover = Handover {
+            rig,
+            parts: &spec.pose,
+            bodies: &body_of,
+        };
+        let region = (spec.region.0.as_str(), spec.region.1.as_str());
+        let mapped = MappedSkeleton::new(
+            world,
+            skeleton,
+            neutral_locals,
+            &handover,
+            region,
+            rod_index,
+        )?;
+        ragdoll.skeleton = Some(mapped.spine().clone());
+        ragdoll.hd_skeleton = Some(mapped);
+    }
     Ok(ragdoll)
 }
 

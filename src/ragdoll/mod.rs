@@ -32,6 +32,7 @@ use crate::body::BodyId;
 use crate::constraint::JointFlavour;
 pub use crate::constraint::RodParams;
 use crate::math::{Iso, Quat, Vec3};
+use crate::rig::skeleton::MappedSkeleton;
 use crate::skeleton::Skeleton;
 use crate::world::World;
 
@@ -151,6 +152,10 @@ pub struct Ragdoll {
     pub constraints: Range<usize>,
     /// The animation skeleton between hips and chest (§6); None for plain groups of bodies.
     pub skeleton: Option<Skeleton>,
+    /// A game character's whole animation skeleton posed back from its bodies (§6), its
+    /// spine the bones of `skeleton`; None for the humanoid, plain groups and characters
+    /// without one.
+    pub hd_skeleton: Option<MappedSkeleton>,
     /// Body positions of the starting pose, the target of the controllability measure.
     pub target_positions: Vec<Vec3>,
 }
@@ -175,6 +180,7 @@ impl Ragdoll {
             bodies,
             constraints,
             skeleton: None,
+            hd_skeleton: None,
         }
     }
 

@@ -1,6 +1,6 @@
-//! Ragdoll rigs and animations from Jolt Physics' text object streams (`.tof`, read by [`tof`]):
-//! [`Rig`] holds the parts, their shapes and true mass properties ([`mass`]), the swing-twist
-//! joints between them and the pairs that do not collide; [`Animation`] holds the clips.
+//! Ragdoll rigs, clips and skeletons from Jolt Physics' text object streams (`.tof`, read by
+//! [`tof`]): [`Rig`] holds the parts, their shapes and mass properties ([`mass`]), the joints
+//! and the pairs that never collide; [`Animation`] the clips; [`skeleton`] the animation skeleton.
 //!
 //! What the files mean, from Jolt's sources (`Ragdoll.cpp`, `BodyCreationSettings`,
 //! `SwingTwistConstraint.cpp`, `SkeletonPose.cpp`):
@@ -16,6 +16,7 @@
 
 pub mod animation;
 pub mod mass;
+pub mod skeleton;
 #[cfg(test)]
 mod tests;
 pub mod tof;
@@ -293,12 +294,11 @@ impl Rig {
                 constraints.push(read_swing_twist(&c, parent, i)?);
             }
         }
-        let no_collide = no_collide(&groups)?;
         Ok(Rig {
             name: stem(file),
             parts,
             constraints,
-            no_collide,
+            no_collide: no_collide(&groups)?,
         })
     }
 

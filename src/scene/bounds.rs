@@ -145,6 +145,40 @@ pub fn check_character(c: &CharacterDef, at: impl Fn(&str) -> Vec<Seg>) -> Resul
         let message = format!("must be a time from 0 to {MAX_CLIP_TIME} s, got {}", c.time);
         return Err((at("time"), message));
     }
+    if let Some(from) = c.play_from {
+        if !(0.0..=c.time).contains(&from) {
+            let message = format!("must be a time from 0 to `time` ({} s), got {from}", c.time);
+            return Err((at("play_from"), message));
+        }
+    }
+    Ok(())
+}
+
+/// Frames a clip may play before its handover (a minute at 60 Hz): the played poses are kept.
+pub const MAX_PLAYBACK_FRAMES: f32 = 3600.0;
+
+/// A character's played clip, in frames of `dt`, within [`MAX_PLAYBACK_FRAMES`].
+pub fn check_playback(
+    c: &CharacterDef,
+    dt: f32,
+    at: impl Fn(&str) -> Vec<Seg>,
+) -> Result<(), Failure> {
+    let Some(from) = c.play_from else {
+        return Ok(());
+    };
+    let frames = ((c.time - from) / dt).round();
+    if frames > MAX_PLAYBACK_FRAMES {
+        let message = format!(
+            "plays the clip for {frames} frames of dt before the handover, at most {MAX_PLAYBACK_FRAMES}"
+        );
+        return Err((at("play_from"), message));
+    }
+    if c.clip.is_none() {
+        return Err((
+            at("play_from"),
+            "plays a clip, and the character names none".into(),
+        ));
+    }
     Ok(())
 }
 

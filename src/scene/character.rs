@@ -6,8 +6,9 @@
 use super::locate::Seg;
 use super::{CharacterDef, Scene, SceneError};
 use crate::math::{quat_from_degrees, rotation_vector, Iso, Quat, Vec3};
-use crate::ragdoll::character::CharacterSpec;
+use crate::ragdoll::character::{region_parts, CharacterSpec};
 use crate::ragdoll::RodParams;
+use crate::rig::skeleton::AnimationSkeleton;
 use crate::rig::{Animation, Rig};
 
 /// The time between the two poses the handover velocities are taken from (s): one keyframe of
@@ -47,6 +48,29 @@ impl Scene {
             let message = format!("the rig {} has no part {name:?}", rig.name);
             return Err(self.error_at(&at(field), message));
         }
+        let animation_skeleton = match (&c.skeleton, &c.skeleton_pose) {
+            (None, None) => None,
+            (Some(_), None) => {
+                let message = "a skeleton needs its neutral pose, skeleton_pose".to_string();
+                return Err(self.error_at(&at("skeleton"), message));
+            }
+            (None, Some(_)) => {
+                let message = "a neutral pose needs its skeleton, skeleton".to_string();
+                return Err(self.error_at(&at("skeleton_pose"), message));
+            }
+            (Some(skeleton), Some(pose)) => {
+                // a region that is no chain of the rig is the spine's mistake, named there
+                region_parts(&rig, &c.region.from, &c.region.to)
+                    .map_err(|m| self.error_at(&at("spine"), m))?;
+                let skeleton = AnimationSkeleton::load(dir.join(skeleton))
+                    .and_then(|s| s.spine_chain(&c.region.from, &c.region.to).map(|_| s))
+                    .map_err(|m| self.error_at(&at("skeleton"), m))?;
+                let neutral_locals = Animation::load(dir.join(pose))
+                    .and_then(|pose| skeleton.locals_from(&pose))
+                    .map_err(|m| self.error_at(&at("skeleton_pose"), m))?;
+                Some((skeleton, neutral_locals))
+            }
+        };
         let posed_at = |time: f32| posed(&rig, clip.as_ref(), time, c);
         let pose = posed_at(c.time);
         let before = posed_at(c.time - HANDOVER_SPAN / 2.0);
@@ -72,6 +96,7 @@ impl Scene {
                 twist_mode: c.twist,
                 ..RodParams::default()
             },
+            animation_skeleton,
         };
         Ok((rig, spec))
     }

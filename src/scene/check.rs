@@ -165,6 +165,7 @@ impl Scene {
                 return Err((at("character", i, "spine"), m.into()));
             }
             bounds::check_character(c, |f| at("character", i, f))?;
+            bounds::check_playback(c, d.dt, |f| at("character", i, f))?;
             for (field, alpha) in [("alpha_b", c.alpha_b), ("alpha_t", c.alpha_t)] {
                 check_relaxation(Some(alpha)).map_err(|m| (at("character", i, field), m))?;
             }

@@ -19,6 +19,8 @@ impl DropDef {
                 clip: c.clips.get(i % c.clips.len().max(1)).cloned(),
                 time: c.time,
                 play_from: None,
+                skeleton: None,
+                skeleton_pose: None,
                 position,
                 rotation,
                 pose: Default::default(),

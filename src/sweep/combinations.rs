@@ -155,17 +155,14 @@ fn label_suffixes(spine: SpineKind, def: &SceneDef) -> Vec<String> {
     label
 }
 
-/// The spines to sweep: those asked for; else the scene's `spines` (and `single` beside a
-/// humanoid's); else the humanoid's three.
+/// The spines to sweep: those asked for; else the scene's `spines` and single; else its
+/// kind's three (chain3 or rig, rod, single).
 fn spines(def: &SceneDef, asked: &[SpineKind]) -> Vec<SpineKind> {
     if !asked.is_empty() {
         return asked.to_vec();
     }
-    let mut spines = match def.spines.is_empty() {
-        true => vec![SpineKind::Chain3, SpineKind::Rod],
-        false => def.spines.clone(),
-    };
-    if !spines.contains(&SpineKind::Single) && def.character.is_empty() {
+    let mut spines = def.default_spines();
+    if !spines.contains(&SpineKind::Single) {
         spines.push(SpineKind::Single);
     }
     spines

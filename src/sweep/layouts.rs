@@ -89,10 +89,10 @@ pub fn run_layouts(
         "{}: the scene has no [drop] block, so it has no layouts to vary",
         scene.display()
     );
-    let spines = match (spines.is_empty(), base.def.spines.is_empty()) {
-        (false, _) => spines,
-        (true, false) => &base.def.spines[..],
-        (true, true) => &[SpineKind::Chain3, SpineKind::Rod][..],
+    let defaults = base.def.default_spines();
+    let spines = match spines.is_empty() {
+        false => spines,
+        true => &defaults[..],
     };
     let runs: Vec<(u64, SpineKind)> = seeds
         .iter()

@@ -7,6 +7,7 @@ use rodlab::math::Iso;
 use rodlab::rig::{Animation, Rig};
 use rodlab::scene::Scene;
 use rodlab::sim::{self, NoObserver};
+use rodlab::skeleton::BoneMethod;
 
 const RIGS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/rigs/jolt-human");
 const BENDING: &str = concat!(
@@ -360,4 +361,112 @@ fn a_clip_plays_kinematically_until_the_handover_then_physics_takes_over() {
     }
     lab.step().unwrap();
     assert!(lab.world.bodies.iter().all(|b| b.is_dynamic()));
+}
+
+/// §6 on the game's animation skeleton: after the handover the rig's spine bones follow their
+/// bodies, and with the rod the paper's two interpolations trade errors as the paper says:
+/// orientation alone keeps every bone's length and misses the chest, orientation and position
+/// meets the chest and stretches the bones. Prints each method's errors (length change, chest
+/// gap; cm) at two times after the handover in both rig scenes.
+#[test]
+fn the_bone_methods_pose_the_games_spine_as_section_6_describes() {
+    let scenes = [
+        ("rig_walk_to_ragdoll", [0.5, 5.0]),
+        ("rig_passive_bending", [2.0, 6.0]),
+    ];
+    for (name, times) in scenes {
+        let path = format!("{}/scenes/{name}.toml", env!("CARGO_MANIFEST_DIR"));
+        let scene = Scene::load(&path).unwrap();
+        let mut lab = scene.build().unwrap();
+        let handover = lab.playbacks.first().map_or(0, |p| p.handover_frame());
+        let frames_after = times.map(|t| (t / scene.def.dt).round() as usize);
+        let mut frame = 0;
+        for (t, after) in times.iter().zip(frames_after) {
+            while frame < handover + after {
+                lab.step().unwrap();
+                frame += 1;
+            }
+            let mut row = format!("| `{name}`, {t} s |");
+            for ragdoll in &lab.ragdolls {
+                let skeleton = ragdoll
+                    .skeleton
+                    .as_ref()
+                    .expect("the scene names a skeleton");
+                assert!(ragdoll.hd_skeleton.is_some(), "{}", ragdoll.name);
+                for &method in skeleton.methods() {
+                    let e = skeleton.error(&lab.world, &skeleton.pose(&lab.world, method));
+                    row += &format!(" {:.2}, {:.2} |", e.length_cm, e.chest_gap_cm);
+                    match method {
+                        BoneMethod::Rigid => assert!(e.chest_gap_cm < 1e-3, "{row}"),
+                        BoneMethod::Orientation => {
+                            assert!(e.length_cm < 1e-2 && e.chest_gap_cm > 0.1, "{row}")
+                        }
+                        BoneMethod::OrientationPosition => {
+                            assert!(e.chest_gap_cm < 1e-2 && e.length_cm > 0.1, "{row}")
+                        }
+                        BoneMethod::Arc => assert!(e.length_cm < 5.0, "{row}"),
+                    }
+                }
+            }
+            eprintln!("{row}");
+        }
+    }
+}
+
+/// The scene's two keys come together; a broken file, a pose without every joint and a
+/// region whose chain is not a spine are errors naming the key and its line, a region that
+/// is no chain of the rig an error of the spine, as without a skeleton.
+#[test]
+fn scene_errors_name_the_skeleton_keys_and_their_lines() {
+    let scene = |keys: &str, region: &str| {
+        let text = format!(
+            "[[character]]\nname = \"c\"\nrig = \"{RIGS}/Human.tof\"\n\
+             region = {{ from = \"{region}\", to = \"C_Spine_sjnt_4\" }}\n{keys}"
+        );
+        Scene::parse("/c.toml", &text)
+            .unwrap()
+            .build()
+            .map(|_| ())
+            .unwrap_err()
+    };
+    let skeleton = format!("skeleton = \"{RIGS}/skeleton_hd.tof\"\n");
+    let pose = format!("skeleton_pose = \"{RIGS}/neutral_hd.tof\"\n");
+    let cases = [
+        (skeleton.clone(), "hipsBone", "skeleton", 5, "skeleton_pose"),
+        (pose.clone(), "hipsBone", "skeleton_pose", 5, "skeleton"),
+        (
+            format!("skeleton = \"{RIGS}/none.tof\"\n{pose}"),
+            "hipsBone",
+            "skeleton",
+            5,
+            "none.tof",
+        ),
+        (
+            format!("{skeleton}skeleton_pose = \"{RIGS}/neutral.tof\"\n"),
+            "hipsBone",
+            "skeleton_pose",
+            6,
+            "\"rootBone\"",
+        ),
+        (
+            format!("{skeleton}{pose}"),
+            "C_Spine_sjnt_0",
+            "skeleton",
+            5,
+            "has 5 joints",
+        ),
+        (
+            format!("spine = \"rod\"\n{skeleton}{pose}"),
+            "L_Leg_sjnt_0",
+            "spine",
+            5,
+            "is not an ancestor",
+        ),
+    ];
+    for (keys, region, field, line, message) in cases {
+        let error = scene(&keys, region);
+        assert_eq!(error.field, format!("character[0].{field}"), "{error}");
+        assert_eq!(error.line, line, "{error}");
+        assert!(error.message.contains(message), "{error}");
+    }
 }

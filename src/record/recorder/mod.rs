@@ -184,7 +184,7 @@ impl Recorder {
             group.centerlines.send(rec)?;
             group.frames.send(rec)?;
         }
-        for track in &mut self.bones.tracks {
+        for track in self.bones.tracks_mut() {
             track.send(rec)?;
         }
         self.contacts.send(rec)?;
@@ -200,9 +200,11 @@ impl Recorder {
         log_ground(rec, world)?;
         for batch in &mut self.batches {
             let color_of = |id: BodyId| {
-                let body = world.body(id);
-                match (body.is_dynamic(), lab.ragdoll_of(id)) {
+                // (a character's kinematic bodies play its clip until they turn dynamic)
+                let moves = world.body(id).kind != BodyKind::Fixed;
+                match (moves, lab.ragdoll_of(id)) {
                     (false, _) => fixed_color(),
+                    (true, None) if !world.body(id).is_dynamic() => fixed_color(),
                     (true, Some(r)) => spine_color(r.spine),
                     (true, None) => rerun::Color::from_rgb(200, 160, 60),
                 }

@@ -1,6 +1,7 @@
 //! Rods and bones in the recording: the rods' centerlines and material frames with their
-//! scalars (`metrics/rod/*`), and the animation bones per mapping method with their errors
-//! (`metrics/bones/*`).
+//! scalars (`metrics/rod/*`), the animation bones per mapping method with their errors
+//! (`metrics/bones/*`), and a game character's whole animation skeleton
+//! (`world/<character>/skeleton`).
 //!
 //! Every rod of a group is one instance of the group's two entities, and every ragdoll's bones
 //! one strip of its method's entity: the file's footer keeps a manifest row per chunk, one chunk
@@ -54,6 +55,19 @@ pub(super) struct Bones {
     /// `metrics/bones`'s id, and its instances per error (the (ragdoll, method) pairs).
     series: usize,
     pairs: usize,
+    /// Per character with an animation skeleton: its ragdoll, the method its spine is drawn
+    /// by, and `world/<character>/skeleton`, a two-point strip per bone.
+    skeletons: Vec<(usize, BoneMethod, Track)>,
+    /// The skeleton's world poses, reused frame to frame.
+    poses: Vec<crate::math::Iso>,
+}
+
+impl Bones {
+    /// Every track, for sending.
+    pub(super) fn tracks_mut(&mut self) -> impl Iterator<Item = &mut Track> {
+        let skeletons = self.skeletons.iter_mut().map(|(_, _, t)| t);
+        self.tracks.iter_mut().chain(skeletons)
+    }
 }
 
 /// The lab's rods (constraint indices; instance i of [`ROD_SERIES`]), and their drawings by group.
@@ -171,8 +185,23 @@ impl Recorder {
             self.start_bones(lab, metrics)?;
             self.bones.started = true;
         }
-        for track in &mut self.bones.tracks {
+        for track in self.bones.tracks_mut() {
             track.begin(frame, lab.world.time);
+        }
+        let Bones {
+            skeletons, poses, ..
+        } = &mut self.bones;
+        for (ragdoll, method, track) in skeletons.iter_mut() {
+            let Some(skeleton) = &lab.ragdolls[*ragdoll].hd_skeleton else {
+                continue;
+            };
+            skeleton.pose_into(&lab.world, *method, poses);
+            for (joint, parent) in skeleton.parents().iter().enumerate() {
+                if let Some(parent) = parent {
+                    let ends = [poses[*parent].translation, poses[joint].translation];
+                    track.push_strip(ends.map(|p| p.to_array()));
+                }
+            }
         }
         for &(ragdoll_index, method, error) in &metrics.bones {
             let ragdoll = &lab.ragdolls[ragdoll_index];
@@ -224,6 +253,23 @@ impl Recorder {
                 .with_labels(labels)
                 .with_show_labels(false);
             self.rec.log_static(track.entity(), &style)?;
+        }
+        for (i, r) in lab.ragdolls.iter().enumerate() {
+            let Some(skeleton) = &r.hd_skeleton else {
+                continue;
+            };
+            // the rod's bones by the paper's interpolation that meets the chest, so the drawn
+            // skeleton is whole
+            let methods = skeleton.spine().methods();
+            let method = match methods.contains(&BoneMethod::OrientationPosition) {
+                true => BoneMethod::OrientationPosition,
+                false => methods[0],
+            };
+            let entity = format!("world/{}/skeleton", r.name);
+            let style = strip_style(0.004, rerun::Color::from_rgb(235, 235, 235));
+            self.rec.log_static(entity.as_str(), &style)?;
+            let track = Track::new(entity, TrackKind::Strips);
+            self.bones.skeletons.push((i, method, track));
         }
         self.bones.pairs = names.len();
         self.bones.series = (self.scalars).series("metrics/bones", BONE_SERIES.len() * names.len());

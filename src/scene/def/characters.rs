@@ -55,6 +55,12 @@ pub struct CharacterDef {
     /// The rod's twist measure (exact, or the paper's eq. 12).
     #[serde(default)]
     pub twist: TwistMode,
+    /// The game's animation skeleton (Jolt's `Skeleton` text stream), relative to the scene
+    /// file, posed back from the bodies (§6); given with `skeleton_pose`.
+    pub skeleton: Option<String>,
+    /// The skeleton's neutral pose (Jolt's `SkeletalAnimation` text stream, a key per joint),
+    /// relative to the scene file; given with `skeleton`.
+    pub skeleton_pose: Option<String>,
 }
 
 /// A spine region: the part it starts at and the part it ends at, a descendant of the first.

@@ -136,3 +136,19 @@ fn default_chain_joints() -> usize {
 fn default_max_bend() -> f32 {
     150.0
 }
+
+impl SceneDef {
+    /// The spines a run per spine takes when none are named: `spines`; else the multi-joint
+    /// spine and the rod of what the scene holds (a game character's rig, else the humanoid's
+    /// chain3).
+    pub fn default_spines(&self) -> Vec<SpineKind> {
+        if !self.spines.is_empty() {
+            return self.spines.clone();
+        }
+        let own = match self.ragdoll.is_empty() && !self.character.is_empty() {
+            true => SpineKind::Rig,
+            false => SpineKind::Chain3,
+        };
+        vec![own, SpineKind::Rod]
+    }
+}
