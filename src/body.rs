@@ -141,36 +141,34 @@ impl Body {
     pub fn set_mass(&mut self, mass: f32) {
         self.mass = mass;
         self.inertia = self.shape.principal_inertia(mass);
-        if self.kind == BodyKind::Dynamic {
-            self.inverse_mass = 1.0 / mass;
-            self.inverse_inertia_body = self.inertia.recip();
-        }
-        self.update_world_inertia();
+        self.update_inverse_mass();
     }
 
     /// Sets the principal moments of inertia (kg m^2, along the body's axes), for a body whose
     /// mass is not spread as its shape's.
     pub fn set_inertia(&mut self, inertia: Vec3) {
         self.inertia = inertia;
-        if self.kind == BodyKind::Dynamic {
-            self.inverse_inertia_body = inertia.recip();
-        }
-        self.update_world_inertia();
+        self.update_inverse_mass();
     }
 
     /// Makes the body dynamic, kinematic or fixed, its inverse mass and inertia with it (a
     /// clip's kinematic bodies handed to physics, [`crate::playback`]).
     pub fn set_kind(&mut self, kind: BodyKind) {
         self.kind = kind;
-        let dynamic = kind == BodyKind::Dynamic;
-        self.inverse_mass = if dynamic { 1.0 / self.mass } else { 0.0 };
-        self.inverse_inertia_body = if dynamic {
-            self.inertia.recip()
-        } else {
-            Vec3::ZERO
-        };
         self.asleep = false;
         self.still_for = 0.0;
+        self.update_inverse_mass();
+    }
+
+    /// The inverse mass and inertia from the mass, the inertia and the kind (zero unless
+    /// dynamic).
+    fn update_inverse_mass(&mut self) {
+        let dynamic = self.kind == BodyKind::Dynamic;
+        self.inverse_mass = if dynamic { 1.0 / self.mass } else { 0.0 };
+        self.inverse_inertia_body = match dynamic {
+            true => self.inertia.recip(),
+            false => Vec3::ZERO,
+        };
         self.update_world_inertia();
     }
 

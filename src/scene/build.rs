@@ -34,7 +34,7 @@ impl Scene {
                 .map_err(|m| self.error_at(&path, m))?;
         }
         for (i, c) in d.character.iter().enumerate() {
-            let (rig, spec) = self.character_spec(i, c)?;
+            let (rig, spec, played) = self.character_spec(i, c)?;
             let built = build_character(&mut lab.world, &rig, &spec);
             let path = [
                 Seg::Key("character".into()),
@@ -42,7 +42,7 @@ impl Scene {
                 Seg::Key("spine".into()),
             ];
             let ragdoll = built.map_err(|m| self.error_at(&path, m))?;
-            if let Some(part_poses) = self.character_playback(&rig, c) {
+            if let Some(part_poses) = played {
                 let playback = playback_of(&mut lab.world, &rig, &spec, &ragdoll, part_poses);
                 lab.playbacks.push(playback);
             }

@@ -16,13 +16,13 @@ use crate::rig::{Animation, Rig};
 pub const HANDOVER_SPAN: f32 = 1.0 / 30.0;
 
 impl Scene {
-    /// The rig of `[[character]]` `i` and what to build of it; files are read relative to the
-    /// scene file.
+    /// The rig of `[[character]]` `i`, what to build of it, and with `play_from` the clip's
+    /// poses to play before the handover; files are read relative to the scene file.
     pub(super) fn character_spec(
         &self,
         i: usize,
         c: &CharacterDef,
-    ) -> Result<(Rig, CharacterSpec), SceneError> {
+    ) -> Result<(Rig, CharacterSpec, Option<PlayedPoses>), SceneError> {
         let at = |field: &str| {
             [
                 Seg::Key("character".into()),
@@ -72,6 +72,17 @@ impl Scene {
             }
         };
         let posed_at = |time: f32| posed(&rig, clip.as_ref(), time, c);
+        // per frame from `play_from` to the handover, one frame `dt` apart, the last at `time`
+        let played = c.play_from.map(|from| {
+            let (dt, frames) = (
+                self.def.dt,
+                ((c.time - from) / self.def.dt).round().max(0.0),
+            );
+            let frames = frames as usize;
+            (0..=frames)
+                .map(|k| posed_at(c.time - (frames - k) as f32 * dt))
+                .collect()
+        });
         let pose = posed_at(c.time);
         let before = posed_at(c.time - HANDOVER_SPAN / 2.0);
         let after = posed_at(c.time + HANDOVER_SPAN / 2.0);
@@ -98,23 +109,12 @@ impl Scene {
             },
             animation_skeleton,
         };
-        Ok((rig, spec))
+        Ok((rig, spec, played))
     }
 }
 
-impl Scene {
-    /// With `play_from`: per frame from the first to the handover, the rig's parts' world
-    /// poses, one frame `dt` apart and the last at the handover time `time`.
-    pub(super) fn character_playback(&self, rig: &Rig, c: &CharacterDef) -> Option<Vec<Vec<Iso>>> {
-        let from = c.play_from?;
-        let dir = self.path.parent().unwrap_or(std::path::Path::new("."));
-        let clip = Animation::load(dir.join(c.clip.as_ref()?)).ok()?;
-        let dt = self.def.dt;
-        let frames = ((c.time - from) / dt).round().max(0.0) as usize;
-        let times = (0..=frames).map(|k| c.time - (frames - k) as f32 * dt);
-        Some(times.map(|t| posed(rig, Some(&clip), t, c)).collect())
-    }
-}
+/// Per frame of a played clip, the rig's parts' world poses.
+pub(super) type PlayedPoses = Vec<Vec<Iso>>;
 
 /// The rig's parts' world poses at `time` of `clip` (none: the rig file's pose), each of the
 /// character's extra turns applied about the world's axes at its joint (parents first), placed.

@@ -12,9 +12,9 @@ impl DropDef {
             return Vec::new();
         };
         let defaults = CharacterDef::default_alphas();
-        (self.layout().into_iter().enumerate())
-            .map(|(i, (position, rotation))| CharacterDef {
-                name: format!("drop{i:03}"),
+        (self.placements().into_iter().enumerate())
+            .map(|(i, (name, position, rotation))| CharacterDef {
+                name,
                 rig: c.rig.clone(),
                 clip: c.clips.get(i % c.clips.len().max(1)).cloned(),
                 time: c.time,
@@ -40,9 +40,9 @@ impl DropDef {
         if self.character.is_some() {
             return Vec::new();
         }
-        (self.layout().into_iter().enumerate())
-            .map(|(i, (position, rotation))| RagdollDef {
-                name: format!("drop{i:02}"),
+        (self.placements().into_iter())
+            .map(|(name, position, rotation)| RagdollDef {
+                name,
                 spine: self.spine,
                 joint_flavour: None,
                 position,
@@ -66,9 +66,10 @@ impl DropDef {
             .collect()
     }
 
-    /// Each dropped item's position (m) and rotation vector (deg): on the grid, turned by a
-    /// random yaw and tipped by a random angle from the seed.
-    fn layout(&self) -> Vec<([f32; 3], [f32; 3])> {
+    /// Each dropped item's name (`drop00`, or `drop000` for characters), position (m) and
+    /// rotation vector (deg): on the grid, turned by a random yaw and tipped by a random angle
+    /// from the seed.
+    pub(super) fn placements(&self) -> Vec<(String, [f32; 3], [f32; 3])> {
         let mut state = self
             .seed
             .wrapping_mul(6364136223846793005)
@@ -95,10 +96,12 @@ impl DropDef {
                 let rotation = crate::math::rotation_vector(
                     quat_from_degrees([0.0, yaw, 0.0]) * quat_from_degrees([tip, 0.0, 0.0]),
                 );
-                (
-                    position,
-                    (rotation * 180.0 / std::f32::consts::PI).to_array(),
-                )
+                let name = match self.character {
+                    Some(_) => format!("drop{i:03}"),
+                    None => format!("drop{i:02}"),
+                };
+                let degrees = (rotation * 180.0 / std::f32::consts::PI).to_array();
+                (name, position, degrees)
             })
             .collect()
     }

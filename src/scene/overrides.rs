@@ -4,7 +4,7 @@
 use serde::Deserialize;
 
 use super::locate::{self, Seg};
-use super::{CharacterDef, Method, RagdollDef, Scene, SceneDef};
+use super::{Method, Scene, SceneDef};
 use crate::constraint::{BendTwist, JointFlavour, TwistMode};
 use crate::ragdoll::{SelfContacts, SpineKind};
 
@@ -108,23 +108,18 @@ impl Overrides {
             // the block's ragdolls were added by name when the file was parsed; only their
             // poses depend on the seed, so what a variant set on them stays
             drop.seed = seed;
-            let laid_out: std::collections::HashMap<String, RagdollDef> = drop
-                .expand()
-                .into_iter()
-                .map(|r| (r.name.clone(), r))
-                .collect();
+            let laid_out: std::collections::HashMap<String, ([f32; 3], [f32; 3])> =
+                (drop.placements().into_iter())
+                    .map(|(name, position, rotation)| (name, (position, rotation)))
+                    .collect();
             for r in &mut def.ragdoll {
-                if let Some(fresh) = laid_out.get(&r.name) {
-                    (r.position, r.rotation) = (fresh.position, fresh.rotation);
+                if let Some(&fresh) = laid_out.get(&r.name) {
+                    (r.position, r.rotation) = fresh;
                 }
             }
-            let laid_out: std::collections::HashMap<String, CharacterDef> =
-                (drop.expand_characters().into_iter())
-                    .map(|c| (c.name.clone(), c))
-                    .collect();
             for c in &mut def.character {
-                if let Some(fresh) = laid_out.get(&c.name) {
-                    (c.position, c.rotation) = (fresh.position, fresh.rotation);
+                if let Some(&fresh) = laid_out.get(&c.name) {
+                    (c.position, c.rotation) = fresh;
                 }
             }
         }
